@@ -1,0 +1,251 @@
+/* The three lattice models as data: coefficient arrays (set up in lattice.c) and kernels.
+ * Hot kernels are branch-free loops over contiguous arrays; the boundary bonds (to the fixed
+ * ends) are peeled off so the interior loops vectorise. See internal.h for the notation. */
+#include <string.h>
+#include "internal.h"
+
+/* ---- bond quantities ------------------------------------------------------------------- */
+
+/* phi_b = L_b + alpha R_b^2 + beta R_b^3 and, if kap != NULL, kappa_b = 2 alpha R_b + 3 beta R_b^2. */
+static void bond_forces_generic(int n, const double *restrict x, const double *restrict cl,
+                                const double *restrict cn, double a, double b,
+                                double *restrict phi, double *restrict kap)
+{
+    double L = cl[0] * x[0], R = cn[0] * x[0];
+    phi[0] = L + R * R * (a + b * R);
+    if (kap) kap[0] = R * (2.0 * a + 3.0 * b * R);
+    if (kap) {
+        for (int k = 1; k < n; k++) {
+            double Lk = cl[k] * x[k] - cl[k - 1] * x[k - 1];
+            double Rk = cn[k] * x[k] - cn[k - 1] * x[k - 1];
+            phi[k] = Lk + Rk * Rk * (a + b * Rk);
+            kap[k] = Rk * (2.0 * a + 3.0 * b * Rk);
+        }
+    } else {
+        for (int k = 1; k < n; k++) {
+            double Lk = cl[k] * x[k] - cl[k - 1] * x[k - 1];
+            double Rk = cn[k] * x[k] - cn[k - 1] * x[k - 1];
+            phi[k] = Lk + Rk * Rk * (a + b * Rk);
+        }
+    }
+    L = -cl[n - 1] * x[n - 1];
+    R = -cn[n - 1] * x[n - 1];
+    phi[n] = L + R * R * (a + b * R);
+    if (kap) kap[n] = R * (2.0 * a + 3.0 * b * R);
+}
+
+static void bond_forces_homogeneous(int n, const double *restrict x, double a, double b,
+                                    double *restrict phi, double *restrict kap)
+{
+    double d = x[0];
+    phi[0] = d + d * d * (a + b * d);
+    if (kap) kap[0] = 1.0 + d * (2.0 * a + 3.0 * b * d);
+    if (kap) {
+        for (int k = 1; k < n; k++) {
+            double dk = x[k] - x[k - 1];
+            phi[k] = dk + dk * dk * (a + b * dk);
+            kap[k] = 1.0 + dk * (2.0 * a + 3.0 * b * dk);
+        }
+    } else {
+        for (int k = 1; k < n; k++) {
+            double dk = x[k] - x[k - 1];
+            phi[k] = dk + dk * dk * (a + b * dk);
+        }
+    }
+    d = -x[n - 1];
+    phi[n] = d + d * d * (a + b * d);
+    if (kap) kap[n] = 1.0 + d * (2.0 * a + 3.0 * b * d);
+}
+
+/* Tangent bond forces dphi_b = dL_b + kappa_b dR_b. */
+static void bond_tangent_generic(int n, const double *restrict dx, const double *restrict cl,
+                                 const double *restrict cn, const double *restrict kap,
+                                 double *restrict dphi)
+{
+    dphi[0] = cl[0] * dx[0] + kap[0] * cn[0] * dx[0];
+    for (int k = 1; k < n; k++)
+        dphi[k] = (cl[k] * dx[k] - cl[k - 1] * dx[k - 1])
+                + kap[k] * (cn[k] * dx[k] - cn[k - 1] * dx[k - 1]);
+    dphi[n] = -cl[n - 1] * dx[n - 1] - kap[n] * cn[n - 1] * dx[n - 1];
+}
+
+/* Homogeneous: kap already holds the full curvature V''(d_b). */
+static void bond_tangent_homogeneous(int n, const double *restrict dx, const double *restrict kap,
+                                     double *restrict dphi)
+{
+    dphi[0] = kap[0] * dx[0];
+    for (int k = 1; k < n; k++)
+        dphi[k] = kap[k] * (dx[k] - dx[k - 1]);
+    dphi[n] = -kap[n] * dx[n - 1];
+}
+
+static void add_divergence(int n, double h, const double *restrict s, const double *restrict phi,
+                           double *restrict p)
+{
+    for (int i = 0; i < n; i++)
+        p[i] += h * s[i] * (phi[i + 1] - phi[i]);
+}
+
+static void add_divergence_unit(int n, double h, const double *restrict phi, double *restrict p)
+{
+    for (int i = 0; i < n; i++)
+        p[i] += h * (phi[i + 1] - phi[i]);
+}
+
+/* ---- kicks (the hot path of the splitting schemes) ------------------------------------- */
+
+static void kick_generic(fpl_lattice *lat, double *y, int n_dev, double h)
+{
+    const int n = lat->n;
+    bond_forces_generic(n, y, lat->cl, lat->cn, lat->alpha, lat->beta, lat->phi,
+                        n_dev > 0 ? lat->kappa : NULL);
+    add_divergence(n, h, lat->s, lat->phi, y + n);
+    for (int m = 0; m < n_dev; m++) {
+        double *dx = y + 2 * (size_t)n * (size_t)(m + 1);
+        bond_tangent_generic(n, dx, lat->cl, lat->cn, lat->kappa, lat->dphi);
+        add_divergence(n, h, lat->s, lat->dphi, dx + n);
+    }
+}
+
+static void kick_homogeneous(fpl_lattice *lat, double *y, int n_dev, double h)
+{
+    const int n = lat->n;
+    bond_forces_homogeneous(n, y, lat->alpha, lat->beta, lat->phi, n_dev > 0 ? lat->kappa : NULL);
+    add_divergence_unit(n, h, lat->phi, y + n);
+    for (int m = 0; m < n_dev; m++) {
+        double *dx = y + 2 * (size_t)n * (size_t)(m + 1);
+        bond_tangent_homogeneous(n, dx, lat->kappa, lat->dphi);
+        add_divergence_unit(n, h, lat->dphi, dx + n);
+    }
+}
+
+/* ---- energies --------------------------------------------------------------------------- */
+
+static double bond_energy(double r, double a, double b)
+{
+    return r * r * (0.5 + r * (a / 3.0 + 0.25 * b * r));
+}
+
+/* 1/2 sum minv p^2 + sum_b V(c[b] x[b] - c[b-1] x[b-1]). */
+static double energy_with(const fpl_lattice *lat, const double *y, const double *c)
+{
+    const int n = lat->n;
+    const double *x = y, *p = y + n;
+    double kin = 0.0, pot = 0.0;
+    for (int i = 0; i < n; i++)
+        kin += 0.5 * lat->minv[i] * p[i] * p[i];
+    pot += bond_energy(c[0] * x[0], lat->alpha, lat->beta);
+    for (int k = 1; k < n; k++)
+        pot += bond_energy(c[k] * x[k] - c[k - 1] * x[k - 1], lat->alpha, lat->beta);
+    pot += bond_energy(-c[n - 1] * x[n - 1], lat->alpha, lat->beta);
+    return kin + pot;
+}
+
+/* Models 1-2: the Hamiltonian (cl = cn). */
+static double energy_hamiltonian(const fpl_lattice *lat, const double *y)
+{
+    return energy_with(lat, y, lat->cn);
+}
+
+/* Model 3: energy of Eq. (Hamilt) on the state (cl = 1, minv = 1). */
+static double energy_plain(const fpl_lattice *lat, const double *y)
+{
+    return energy_with(lat, y, lat->cl);
+}
+
+static const fpl_model_ops ops_table[] = {
+    {FPL_MODEL_HOMOGENEOUS, "homogeneous", kick_homogeneous, energy_hamiltonian},
+    {FPL_MODEL_HAMILTONIAN, "hamiltonian", kick_generic, energy_hamiltonian},
+    {FPL_MODEL_NONLINEAR, "nonlinear", kick_generic, energy_plain},
+};
+
+const fpl_model_ops *fpl_model_ops_for(int model)
+{
+    for (size_t i = 0; i < sizeof ops_table / sizeof ops_table[0]; i++)
+        if (ops_table[i].model == model)
+            return &ops_table[i];
+    return NULL;
+}
+
+const char *fpl_model_name(int model)
+{
+    const fpl_model_ops *ops = fpl_model_ops_for(model);
+    return ops ? ops->name : "unknown";
+}
+
+/* ---- generic (non-hot) kernels for the public evaluation API ---------------------------- */
+
+void fpl_kernel_force(fpl_lattice *lat, const double *x, double *f)
+{
+    memset(f, 0, sizeof(double) * (size_t)lat->n);
+    bond_forces_generic(lat->n, x, lat->cl, lat->cn, lat->alpha, lat->beta, lat->phi, NULL);
+    add_divergence(lat->n, 1.0, lat->s, lat->phi, f);
+}
+
+void fpl_kernel_tangent(fpl_lattice *lat, const double *x, int n_dev, const double *dx,
+                        double *df)
+{
+    const int n = lat->n;
+    bond_forces_generic(n, x, lat->cl, lat->cn, lat->alpha, lat->beta, lat->phi, lat->kappa);
+    for (int m = 0; m < n_dev; m++) {
+        double *out = df + (size_t)m * n;
+        memset(out, 0, sizeof(double) * (size_t)n);
+        bond_tangent_generic(n, dx + (size_t)m * n, lat->cl, lat->cn, lat->kappa, lat->dphi);
+        add_divergence(n, 1.0, lat->s, lat->dphi, out);
+    }
+}
+
+void fpl_kernel_rhs(fpl_lattice *lat, const double *y, int n_dev, double *ydot)
+{
+    const int n = lat->n;
+    for (int m = 0; m <= n_dev; m++) {
+        const double *p = y + 2 * (size_t)n * m + n;
+        double *xd = ydot + 2 * (size_t)n * m;
+        for (int i = 0; i < n; i++)
+            xd[i] = lat->minv[i] * p[i];
+    }
+    fpl_kernel_force(lat, y, ydot + n);
+    for (int m = 1; m <= n_dev; m++) {
+        /* fpl_kernel_tangent recomputes kappa; cheap next to what a caller does with f */
+        fpl_kernel_tangent(lat, y, 1, y + 2 * (size_t)n * m, ydot + 2 * (size_t)n * m + n);
+    }
+}
+
+/* R_b of bond b (0..N) for coefficients c. */
+static double stretch(const fpl_lattice *lat, const double *c, const double *x, int b)
+{
+    const int n = lat->n;
+    double right = b < n ? c[b] * x[b] : 0.0;
+    double left = b > 0 ? c[b - 1] * x[b - 1] : 0.0;
+    return right - left;
+}
+
+void fpl_kernel_jacobian_entries(fpl_lattice *lat, const double *y, int n_dev, fpl_emit_fn emit,
+                                 void *ctx)
+{
+    const int n = lat->n;
+    const double a = lat->alpha, b = lat->beta;
+    const double *cl = lat->cl, *cn = lat->cn, *s = lat->s, *x = y;
+    for (int blk = 0; blk <= n_dev; blk++) {
+        long o = 2L * n * blk;
+        for (int i = 0; i < n; i++)
+            emit(ctx, o + i, o + n + i, lat->minv[i]);
+        for (int i = 0; i < n; i++) {
+            double Rl = stretch(lat, cn, x, i), Rr = stretch(lat, cn, x, i + 1);
+            double kl = Rl * (2 * a + 3 * b * Rl), kr = Rr * (2 * a + 3 * b * Rr);
+            long row = o + n + i;
+            emit(ctx, row, o + i, -s[i] * (2 * cl[i] + (kl + kr) * cn[i]));
+            if (i + 1 < n) emit(ctx, row, o + i + 1, s[i] * (cl[i + 1] + kr * cn[i + 1]));
+            if (i > 0) emit(ctx, row, o + i - 1, s[i] * (cl[i - 1] + kl * cn[i - 1]));
+            if (blk > 0) {
+                /* d/dx of J(x) dx: the curvature kappa depends on x */
+                const double *dx = y + o;
+                double dRl = stretch(lat, cn, dx, i), dRr = stretch(lat, cn, dx, i + 1);
+                double gl = (2 * a + 6 * b * Rl) * dRl, gr = (2 * a + 6 * b * Rr) * dRr;
+                emit(ctx, row, i, -s[i] * (gr + gl) * cn[i]);
+                if (i + 1 < n) emit(ctx, row, i + 1, s[i] * gr * cn[i + 1]);
+                if (i > 0) emit(ctx, row, i - 1, s[i] * gl * cn[i - 1]);
+            }
+        }
+    }
+}

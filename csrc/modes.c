@@ -1,0 +1,104 @@
+/* Normal modes: the orthogonal type-I sine transform by FFT of the odd extension. */
+#include <math.h>
+#include <string.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_fft_real.h>
+#include "internal.h"
+
+int fpl_modes_alloc(fpl_lattice *lat)
+{
+    size_t m = 2 * ((size_t)lat->n + 1);
+    lat->fft_wavetable = gsl_fft_real_wavetable_alloc(m);
+    lat->fft_workspace = gsl_fft_real_workspace_alloc(m);
+    return lat->fft_wavetable && lat->fft_workspace ? 0 : -1;
+}
+
+void fpl_modes_release(fpl_lattice *lat)
+{
+    if (lat->fft_wavetable) gsl_fft_real_wavetable_free(lat->fft_wavetable);
+    if (lat->fft_workspace) gsl_fft_real_workspace_free(lat->fft_workspace);
+    lat->fft_wavetable = lat->fft_workspace = NULL;
+}
+
+/* out_k = sqrt(2/(N+1)) sum_j in_j sin(pi j k/(N+1)), k = 1..N.  For the odd extension
+ * y (length M = 2(N+1)), Y_k = sum y_j e^{-2 pi i jk/M} = -2i sum_j in_j sin(pi jk/(N+1)),
+ * and GSL's half-complex output stores Im Y_k at index 2k. */
+static int sine_transform(fpl_lattice *lat, const double *in, double *out)
+{
+    const int n = lat->n;
+    const size_t m = 2 * ((size_t)n + 1);
+    double *buf = lat->fft;
+    buf[0] = 0.0;
+    buf[n + 1] = 0.0;
+    for (int j = 1; j <= n; j++) {
+        buf[j] = in[j - 1];
+        buf[m - (size_t)j] = -in[j - 1];
+    }
+    int st = gsl_fft_real_transform(buf, 1, m, lat->fft_wavetable, lat->fft_workspace);
+    if (st)
+        return fpl_error(lat, FPL_ERR_BACKEND, "GSL FFT failed: %s", gsl_strerror(st));
+    const double scale = -0.5 * sqrt(2.0 / (n + 1.0));
+    for (int k = 1; k <= n; k++)
+        out[k - 1] = scale * buf[2 * k];
+    return FPL_OK;
+}
+
+int fpl_modes_omega(int n, double *omega)
+{
+    if (n < 2) return fpl_error(NULL, FPL_ERR_ARG, "N must be >= 2 (got %d)", n);
+    if (!omega) return fpl_error(NULL, FPL_ERR_ARG, "omega: NULL pointer");
+    for (int k = 1; k <= n; k++)
+        omega[k - 1] = 2.0 * sin(k * M_PI / (2.0 * (n + 1)));
+    return FPL_OK;
+}
+
+int fpl_modes_transform(fpl_lattice *lattice, const double *x, double *q)
+{
+    if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
+    if (!x || !q) return fpl_error(lattice, FPL_ERR_ARG, "x/q: NULL pointer");
+    return sine_transform(lattice, x, q);
+}
+
+int fpl_modes_energies(fpl_lattice *lattice, const double *y, double *energies)
+{
+    if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
+    if (!y || !energies) return fpl_error(lattice, FPL_ERR_ARG, "y/energies: NULL pointer");
+    const int n = lattice->n;
+    double *vel = lattice->dphi; /* N+1 scratch, free outside the kicks */
+    fpl_lattice_velocity(lattice, y, vel);
+    int st = sine_transform(lattice, y, energies); /* Q_k */
+    if (st) return st;
+    st = sine_transform(lattice, vel, vel); /* P_k */
+    if (st) return st;
+    for (int k = 1; k <= n; k++) {
+        double w = 2.0 * sin(k * M_PI / (2.0 * (n + 1)));
+        double q = energies[k - 1], p = vel[k - 1];
+        energies[k - 1] = 0.5 * (p * p + w * w * q * q);
+    }
+    return FPL_OK;
+}
+
+int fpl_modes_initial_state(const fpl_lattice *lattice, int k, double amplitude, double *y)
+{
+    if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
+    const int n = lattice->n;
+    if (k < 1 || k > n)
+        return fpl_error(NULL, FPL_ERR_ARG, "mode k must be in 1..N = %d (got %d)", n, k);
+    if (!isfinite(amplitude))
+        return fpl_error(NULL, FPL_ERR_ARG, "amplitude must be finite (got %g)", amplitude);
+    if (!y) return fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer");
+    for (int j = 1; j <= n; j++) {
+        y[j - 1] = amplitude * sin(M_PI * k * j / (n + 1.0));
+        y[n + j - 1] = 0.0;
+    }
+    return FPL_OK;
+}
+
+int fpl_modes_initial_state_coupled(const fpl_lattice *lattice, int k, double amplitude, double *y)
+{
+    int st = fpl_modes_initial_state(lattice, k, amplitude, y);
+    if (st) return st;
+    for (int j = 0; j < lattice->n; j++)
+        y[j] /= lattice->cl[j];
+    return FPL_OK;
+}

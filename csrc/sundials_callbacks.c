@@ -1,0 +1,109 @@
+/* The lattice models in SUNDIALS callback form (N_Vector / SUNMatrix). This is the only file of
+ * the core that sees SUNDIALS types shared by ARKODE and CVODE; their integrator back ends live
+ * in files of their own. */
+#include <sunmatrix/sunmatrix_band.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include "fputlab/sundials.h"
+#include "internal.h"
+
+/* n_dev from the vector length 2N(1+n_dev), or -1 (message on the handle) if it does not fit. */
+static int n_dev_of(fpl_lattice *lat, N_Vector y)
+{
+    sunindextype len = N_VGetLength(y), two_n = 2 * (sunindextype)lat->n;
+    if (len < two_n || len % two_n != 0) {
+        fpl_error(lat, FPL_ERR_ARG, "N_Vector length %ld is not a multiple 2N(1+n_dev) of 2N = %ld",
+                  (long)len, (long)two_n);
+        return -1;
+    }
+    return (int)(len / two_n) - 1;
+}
+
+int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    (void)t;
+    fpl_lattice *lat = user_data;
+    int n_dev = n_dev_of(lat, y);
+    if (n_dev < 0) return -1;
+    const double *yd = N_VGetArrayPointer(y);
+    long bad;
+    if (!fpl_is_finite_array(yd, N_VGetLength(y), &bad)) {
+        fpl_error(lat, FPL_ERR_NONFINITE, "rhs called with non-finite y[%ld] at t = %g", bad, t);
+        return 1; /* recoverable: let the integrator retry with a smaller step */
+    }
+    fpl_kernel_rhs(lat, yd, n_dev, N_VGetArrayPointer(ydot));
+    return 0;
+}
+
+static void emit_dense(void *ctx, long row, long col, double value)
+{
+    SUNMatrix m = ctx;
+    SM_ELEMENT_D(m, row, col) += value;
+}
+
+static void emit_band(void *ctx, long row, long col, double value)
+{
+    SUNMatrix m = ctx;
+    SM_ELEMENT_B(m, row, col) += value;
+}
+
+int fpl_sun_band_widths(const fpl_lattice *lattice, int n_dev, sunindextype *upper,
+                        sunindextype *lower)
+{
+    if (!lattice || !upper || !lower || n_dev < 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "lattice/upper/lower NULL or n_dev < 0");
+    sunindextype n = lattice->n;
+    *upper = n;                               /* x'_i depends on p_i */
+    *lower = n + 1 + 2 * n * (sunindextype)n_dev; /* p'-rows on x; last block's dp' on the orbit x */
+    return FPL_OK;
+}
+
+int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *user_data,
+                N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
+{
+    (void)t; (void)fy; (void)tmp1; (void)tmp2; (void)tmp3;
+    fpl_lattice *lat = user_data;
+    int n_dev = n_dev_of(lat, y);
+    if (n_dev < 0) return -1;
+    SUNMatZero(jac);
+    switch (SUNMatGetID(jac)) {
+    case SUNMATRIX_DENSE:
+        fpl_kernel_jacobian_entries(lat, N_VGetArrayPointer(y), n_dev, emit_dense, jac);
+        return 0;
+    case SUNMATRIX_BAND: {
+        sunindextype mu, ml;
+        fpl_sun_band_widths(lat, n_dev, &mu, &ml);
+        if (SM_UBAND_B(jac) < mu || SM_LBAND_B(jac) < ml) {
+            fpl_error(lat, FPL_ERR_ARG,
+                      "band matrix has bandwidths (mu %ld, ml %ld); need (%ld, %ld)",
+                      (long)SM_UBAND_B(jac), (long)SM_LBAND_B(jac), (long)mu, (long)ml);
+            return -1;
+        }
+        fpl_kernel_jacobian_entries(lat, N_VGetArrayPointer(y), n_dev, emit_band, jac);
+        return 0;
+    }
+    default:
+        fpl_error(lat, FPL_ERR_ARG, "fpl_sun_jac supports dense and band SUNMatrix only");
+        return -1;
+    }
+}
+
+struct jtimes_ctx { const double *v; double *jv; };
+
+static void emit_jtimes(void *ctx, long row, long col, double value)
+{
+    struct jtimes_ctx *c = ctx;
+    c->jv[row] += value * c->v[col];
+}
+
+int fpl_sun_jtimes(N_Vector v, N_Vector jv, sunrealtype t, N_Vector y, N_Vector fy,
+                   void *user_data, N_Vector tmp)
+{
+    (void)t; (void)fy; (void)tmp;
+    fpl_lattice *lat = user_data;
+    int n_dev = n_dev_of(lat, y);
+    if (n_dev < 0) return -1;
+    N_VConst(0.0, jv);
+    struct jtimes_ctx c = {N_VGetArrayPointer(v), N_VGetArrayPointer(jv)};
+    fpl_kernel_jacobian_entries(lat, N_VGetArrayPointer(y), n_dev, emit_jtimes, &c);
+    return 0;
+}

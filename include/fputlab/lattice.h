@@ -1,0 +1,89 @@
+/* fputlab — the lattice: N particles, fixed ends x_0 = x_{N+1} = 0, one of three models.
+ *
+ * With bond potential V(s) = s^2/2 + alpha s^3/3 + beta s^4/4 (FPUT-alpha-beta; beta = 0 in
+ * the paper), bond stretches d_j = x_{j+1} - x_j and weighted stretches
+ * r_j = v_{j+1} x_{j+1} - v_j x_j (j = 0..N), the models are
+ *
+ *   FPL_MODEL_HOMOGENEOUS   (paper Eqs. Hamilt, eqnmotions)
+ *       x_j'' = V'(d_j) - V'(d_{j-1})                              masses 1
+ *   FPL_MODEL_HAMILTONIAN   (paper Eqs. dis1, Hamilt2mod; v in linear and nonlinear couplings)
+ *       H = sum p_j^2/(2 v_j) + sum V(r_j);  x_j' = p_j/v_j,  p_j' = v_j [V'(r_j) - V'(r_{j-1})]
+ *       so that x_j'' = V'(r_j) - V'(r_{j-1}) exactly as Eq. dis1.
+ *   FPL_MODEL_NONLINEAR     (paper Eq. varnonlin; v only in the nonlinear terms, not Hamiltonian)
+ *       x_j'' = d_j - d_{j-1} + alpha (r_j^2 - r_{j-1}^2) + beta (r_j^3 - r_{j-1}^3)
+ *
+ * State layout (everywhere): one contiguous array y = [x_1..x_N, p_1..p_N, dx^(1), dp^(1), ...],
+ * length 2N(1 + n_dev) with n_dev deviation vectors sharing the layout of (x, p).
+ * p is the canonical momentum: p = x' for models 1 and 3, p = v x' for model 2.
+ *
+ * A handle owns scratch space: use one handle per thread. */
+#ifndef FPUTLAB_LATTICE_H
+#define FPUTLAB_LATTICE_H
+
+#include "fputlab/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum fpl_model {
+    FPL_MODEL_HOMOGENEOUS = 1,
+    FPL_MODEL_HAMILTONIAN = 2,
+    FPL_MODEL_NONLINEAR = 3
+} fpl_model;
+
+typedef struct fpl_lattice fpl_lattice;
+
+/* Create a lattice. v (length n) is the variability; NULL means v_j = 1 for all j.
+ * Errors: n < 2, non-finite alpha/beta, v_j not finite or v_j <= 0 (model 2 uses v_j as a mass),
+ * unknown model. */
+FPL_API int fpl_lattice_create(int n, double alpha, double beta, int model, const double *v,
+                               fpl_lattice **out);
+FPL_API void fpl_lattice_free(fpl_lattice **lattice);
+
+/* Message of the last failing call on this handle ("" if none). */
+FPL_API const char *fpl_lattice_errmsg(const fpl_lattice *lattice);
+
+FPL_API int fpl_lattice_size(const fpl_lattice *lattice);
+FPL_API double fpl_lattice_alpha(const fpl_lattice *lattice);
+FPL_API double fpl_lattice_beta(const fpl_lattice *lattice);
+FPL_API int fpl_lattice_model(const fpl_lattice *lattice);
+FPL_API const char *fpl_model_name(int model);
+/* Copy the variability into v (length n must equal N). */
+FPL_API int fpl_lattice_get_v(const fpl_lattice *lattice, double *v, int n);
+
+/* Force F(x) = p' (length N). */
+FPL_API int fpl_lattice_force(fpl_lattice *lattice, const double *x, double *force);
+
+/* Tridiagonal Jacobian dF/dx at x: lower[j] = dF_{j+1}/dx_j, diag[j] = dF_j/dx_j,
+ * upper[j] = dF_j/dx_{j+1} (0-based; lower and upper have N-1 entries). Symmetric for models 1-2. */
+FPL_API int fpl_lattice_force_jacobian(fpl_lattice *lattice, const double *x, double *lower,
+                                       double *diag, double *upper);
+
+/* Tangent force: dforce = (dF/dx)(x) . dx for n_dev vectors dx stored back to back (n_dev*N). */
+FPL_API int fpl_lattice_tangent_force(fpl_lattice *lattice, const double *x, int n_dev,
+                                      const double *dx, double *dforce);
+
+/* First-order right-hand side y' = f(y) with n_dev deviation vectors (variational equations):
+ * x' = p/m, p' = F(x), dx' = dp/m, dp' = (dF/dx) dx.  y and ydot have length 2N(1+n_dev). */
+FPL_API int fpl_lattice_rhs(fpl_lattice *lattice, const double *y, int n_dev, double *ydot);
+
+/* Dense Jacobian d f / d y of the first-order system with n_dev deviation vectors, row-major,
+ * (2N(1+n_dev))^2 entries; includes the second-derivative coupling of deviation vectors to x. */
+FPL_API int fpl_lattice_jacobian_dense(fpl_lattice *lattice, const double *y, int n_dev,
+                                       double *jac);
+
+/* Energy of the state (length 2N). Models 1-2: the Hamiltonian (conserved). Model 3: the
+ * energy of Eq. (Hamilt), 1/2 sum p^2 + sum V(d_j), a diagnostic that is not conserved. */
+FPL_API int fpl_lattice_energy(fpl_lattice *lattice, const double *y, double *energy);
+
+/* Velocities x' = p/m (length N) from the state (length 2N). */
+FPL_API int fpl_lattice_velocity(const fpl_lattice *lattice, const double *y, double *xdot);
+
+/* Check that every entry of y (length len) is finite; FPL_ERR_NONFINITE names the first bad index. */
+FPL_API int fpl_state_check_finite(const double *y, long len);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

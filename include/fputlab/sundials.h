@@ -1,0 +1,45 @@
+/* fputlab — the lattice models in SUNDIALS callback form, for ARKODE and CVODE (SUNDIALS 6.x).
+ *
+ * user_data is an fpl_lattice*. The number of deviation vectors is read from the N_Vector
+ * length, 2N(1 + n_dev), so the same callbacks integrate the orbit alone or the orbit with
+ * its variational equations. Example (CVODE, BDF, dense Jacobian):
+ *
+ *     CVodeInit(mem, fpl_sun_rhs, t0, y);
+ *     CVodeSetUserData(mem, lattice);
+ *     A = SUNDenseMatrix(len, len, ctx);  LS = SUNLinSol_Dense(y, A, ctx);
+ *     CVodeSetLinearSolver(mem, LS, A);  CVodeSetJacFn(mem, fpl_sun_jac);
+ *
+ * For a band matrix, take the bandwidths from fpl_sun_band_widths: with the [x, p] layout the
+ * force Jacobian is tridiagonal but sits N columns away from the diagonal.
+ * Callbacks return 0 on success, 1 (recoverable) if the state is not finite, -1 on a size
+ * mismatch; the message is then on the lattice handle. */
+#ifndef FPUTLAB_SUNDIALS_H
+#define FPUTLAB_SUNDIALS_H
+
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_matrix.h>
+#include "fputlab/lattice.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* y' = f(t, y) (ARKRhsFn / CVRhsFn). */
+FPL_API int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+
+/* Jacobian (ARKLsJacFn / CVLsJacFn) for SUNMATRIX_DENSE or SUNMATRIX_BAND matrices. */
+FPL_API int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *user_data,
+                        N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+
+/* Upper and lower bandwidths needed by fpl_sun_jac for a band matrix. */
+FPL_API int fpl_sun_band_widths(const fpl_lattice *lattice, int n_dev, sunindextype *upper,
+                                sunindextype *lower);
+
+/* Jacobian-times-vector (ARKLsJacTimesVecFn / CVLsJacTimesVecFn) for matrix-free Krylov solvers. */
+FPL_API int fpl_sun_jtimes(N_Vector v, N_Vector jv, sunrealtype t, N_Vector y, N_Vector fy,
+                           void *user_data, N_Vector tmp);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
