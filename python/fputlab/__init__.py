@@ -1,0 +1,17 @@
+"""fputlab: ordered and disordered Fermi-Pasta-Ulam-Tsingou lattices, fast.
+
+    >>> import fputlab
+    >>> lat = fputlab.Lattice(N=64, alpha=0.25)              # homogeneous FPUT-alpha
+    >>> run = lat.integrate(7e4, sample_every=10.0)           # Yoshida 4, dt = 0.01
+    >>> run.mode_energies[:, :4]                              # E_1..E_4 (paper Fig. 1b)
+"""
+from ._errors import FputlabError, IntegrationError
+from ._native import ffi as _ffi, lib as _lib
+from .integrate import Run, integrate, methods
+from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
+from .modes import mode_matrix, omega
+
+__version__ = _ffi.string(_lib.fpl_version()).decode()
+
+__all__ = ["Lattice", "draw_disorder", "integrate", "methods", "Run", "omega", "mode_matrix",
+           "MODELS", "DISORDERS", "FputlabError", "IntegrationError", "__version__"]
