@@ -1,0 +1,254 @@
+/* The higher-order splitting schemes "aba864" (Blanes et al. 2013, ABA(8,6,4)) and "srkn14a6"
+ * (Blanes & Moan 2002, SRKN_14^a): coefficient tables, convergence order on a nonlinear chain,
+ * energy conservation on the paper's problem, and the tangent map. */
+#include <string.h>
+#include "check.h"
+#include "fputlab.h"
+#include "../../csrc/internal.h" /* white box: the coefficient tables */
+
+static const fpl_splitting *scheme(const char *name)
+{
+    const fpl_splitting *s = NULL;
+    CHECK_OK(fpl_splitting_lookup(name, &s));
+    return s;
+}
+
+static const struct {
+    const char *name;
+    int order, kicks;
+} expected[] = {
+    {"aba864", 4, 7},
+    {"srkn14a6", 6, 14},
+};
+
+/* (a) Tables: drifts and kicks each sum to 1, both palindromic (symmetric method), metadata. */
+static void test_tables(void)
+{
+    for (size_t k = 0; k < sizeof expected / sizeof expected[0]; k++) {
+        const fpl_splitting *sc = scheme(expected[k].name);
+        if (!sc) continue;
+        const int s = sc->n_kicks;
+        CHECK(s == expected[k].kicks && fpl_splitting_stages(sc) == s, "%s: %d kicks",
+              sc->name, s);
+        CHECK(fpl_splitting_order(sc) == expected[k].order, "%s: order %d", sc->name,
+              fpl_splitting_order(sc));
+        CHECK(sc->reference && strlen(sc->reference) > 20, "%s: no reference", sc->name);
+        long double sa = 0.0L, sb = 0.0L;
+        for (int i = 0; i <= s; i++) sa += sc->drift[i];
+        for (int i = 0; i < s; i++) sb += sc->kick[i];
+        CHECK(fabsl(sa - 1.0L) < 1e-15L, "%s: sum of drifts - 1 = %Lg", sc->name, sa - 1.0L);
+        CHECK(fabsl(sb - 1.0L) < 1e-15L, "%s: sum of kicks - 1 = %Lg", sc->name, sb - 1.0L);
+        int sym = 1;
+        for (int i = 0; i <= s; i++) sym &= sc->drift[i] == sc->drift[s - i];
+        for (int i = 0; i < s; i++) sym &= sc->kick[i] == sc->kick[s - 1 - i];
+        CHECK(sym, "%s: coefficients not symmetric", sc->name);
+        printf("%s: %d kicks, sum a - 1 = %.1Le, sum b - 1 = %.1Le, symmetric %d\n", sc->name, s,
+               sa - 1.0L, sb - 1.0L, sym);
+    }
+}
+
+/* The order conditions seen from the tables alone, without the library's step: one step of the
+ * composition on the harmonic oscillator x' = p, p' = -x (in long double) against the exact
+ * rotation; the local error of an order-p method falls as h^(p+1). */
+static void test_tables_linear_order(void)
+{
+    for (size_t k = 0; k < sizeof expected / sizeof expected[0]; k++) {
+        const fpl_splitting *sc = scheme(expected[k].name);
+        if (!sc) continue;
+        long double err[3];
+        for (int l = 0; l < 3; l++) {
+            long double h = 0.25L / (1 << l), x = 1.0L, p = 0.0L;
+            for (int i = 0; i < sc->n_kicks; i++) {
+                x += sc->drift[i] * h * p;
+                p -= sc->kick[i] * h * x;
+            }
+            x += sc->drift[sc->n_kicks] * h * p;
+            err[l] = fabsl(x - cosl(h)) + fabsl(p + sinl(h));
+        }
+        for (int l = 0; l < 2; l++) {
+            double q = (double)log2l(err[l] / err[l + 1]);
+            CHECK(fabs(q - (expected[k].order + 1)) < 0.3,
+                  "%s: harmonic oscillator local error order %.2f (errors %Lg, %Lg)", sc->name, q,
+                  err[l], err[l + 1]);
+            printf("%s: harmonic oscillator local error order %.3f\n", sc->name, q);
+        }
+    }
+}
+
+static double max_diff(const double *a, const double *b, int len)
+{
+    double d = 0.0;
+    for (int i = 0; i < len; i++) d = fmax(d, fabs(a[i] - b[i]));
+    return d;
+}
+
+static void advance_to(const char *name, fpl_lattice *lat, double *y, double dt, double T)
+{
+    CHECK_OK(fpl_splitting_advance(scheme(name), lat, y, 0, dt, (long)(T / dt + 0.5)));
+}
+
+/* (b) Observed order: errors at dt, dt/2, dt/4 (chosen so that they lie between ~1e-7 and
+ * ~1e-11, far above round-off) against a reference from the OTHER scheme at a much finer step,
+ * aba864 at dt = 1/1024 or srkn14a6 at dt = 1/64 (both at round-off level; they must agree).
+ * Every dt divides T exactly. Returns the two observed orders. */
+static void observed_orders(const char *name, int model, double amplitude, double T, double dt0,
+                            double orders[2], double err[3])
+{
+    const int n = 8;
+    double v[8];
+    CHECK_OK(fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, 10.0, 3, n, v));
+    fpl_lattice *lat = NULL;
+    CHECK_OK(fpl_lattice_create(n, 0.25, 0.0, model, model == 1 ? NULL : v, &lat));
+    if (!lat) return;
+    double y0[16], y[16], ref_a[16], ref_s[16];
+    CHECK_OK(fpl_modes_initial_state(lat, 1, amplitude, y0));
+    memcpy(ref_a, y0, sizeof y0);
+    memcpy(ref_s, y0, sizeof y0);
+    advance_to("aba864", lat, ref_a, 1.0 / 1024, T);
+    advance_to("srkn14a6", lat, ref_s, 1.0 / 64, T);
+    double agree = max_diff(ref_a, ref_s, 2 * n);
+    CHECK(agree < 1e-12, "model %d amplitude %g: the two references differ by %g", model,
+          amplitude, agree);
+    const double *ref = strcmp(name, "aba864") == 0 ? ref_s : ref_a;
+    for (int l = 0; l < 3; l++) {
+        memcpy(y, y0, sizeof y);
+        advance_to(name, lat, y, dt0 / (1 << l), T);
+        err[l] = max_diff(y, ref, 2 * n);
+    }
+    for (int l = 0; l < 2; l++) orders[l] = log2(err[l] / err[l + 1]);
+    fpl_lattice_free(&lat);
+}
+
+static void test_order(const char *name, int model, double amplitude, double T, double dt0,
+                       double expect)
+{
+    double q[2], err[3];
+    observed_orders(name, model, amplitude, T, dt0, q, err);
+    for (int l = 0; l < 2; l++) {
+        CHECK(fabs(q[l] - expect) < 0.3,
+              "%s model %d amplitude %g: observed order %.2f (errors %g, %g)", name, model,
+              amplitude, q[l], err[l], err[l + 1]);
+        printf("%s model %d amplitude %g dt %g/%g: errors %.2e %.2e, observed order %.3f\n", name,
+               model, amplitude, dt0 / (1 << l), dt0 / (2 << l), err[l], err[l + 1], q[l]);
+    }
+}
+
+/* ABA(8,6,4) is "8,6,4" for H = A + eps B with eps small: error O(eps h^8 + eps^2 h^6 +
+ * eps^3 h^4). Our split is A = kinetic, B = the whole potential (linear + nonlinear), so a small
+ * amplitude does NOT make B small: in the linear limit the chain is a set of oscillators
+ * p^2/2 + w^2 q^2/2, whose A/B words with two A's and three B's (the eps^3 h^4 terms) do not
+ * vanish, and the order stays 4 (measured: 4.00 at amplitude 0.05 just as at 3; it would rise
+ * only with a "harmonic chain + nonlinear kick" split, which fpl_step_aba does not do). What
+ * the vanishing eps and eps^2 terms do buy is a small error constant: assert order 4 and an
+ * error at least 100x below yoshida4's at the same dt (measured: ~2000x). */
+static void test_aba864_small_amplitude(void)
+{
+    double q[2], err[3], qy[2], erry[3];
+    const double amplitude = 0.05, T = 50.0, dt0 = 0.4;
+    observed_orders("aba864", 1, amplitude, T, dt0, q, err);
+    observed_orders("yoshida4", 1, amplitude, T, dt0, qy, erry);
+    for (int l = 0; l < 2; l++) {
+        CHECK(fabs(q[l] - 4.0) < 0.3, "aba864 amplitude %g: observed order %.2f (errors %g, %g)",
+              amplitude, q[l], err[l], err[l + 1]);
+        printf("aba864 model 1 amplitude %g dt %g/%g: errors %.2e %.2e, observed order %.3f\n",
+               amplitude, dt0 / (1 << l), dt0 / (2 << l), err[l], err[l + 1], q[l]);
+    }
+    for (int l = 0; l < 3; l++) {
+        CHECK(err[l] < 1e-2 * erry[l], "amplitude %g dt %g: aba864 error %g vs yoshida4 %g",
+              amplitude, dt0 / (1 << l), err[l], erry[l]);
+        printf("amplitude %g dt %g: error aba864 %.2e, yoshida4 %.2e (ratio %.0f)\n", amplitude,
+               dt0 / (1 << l), err[l], erry[l], erry[l] / err[l]);
+    }
+}
+
+/* (c) Paper Sec. 5 problem (N = 64, alpha = 0.25, x_j = sin(pi j/65), p = 0) to t = 1e4: maximum
+ * relative energy error over 100 checks. */
+static double energy_error(const char *name, double dt)
+{
+    const int n = 64;
+    double y[128], e0, e;
+    fpl_lattice *lat = NULL;
+    CHECK_OK(fpl_lattice_create(n, 0.25, 0.0, FPL_MODEL_HOMOGENEOUS, NULL, &lat));
+    if (!lat) return INFINITY;
+    CHECK_OK(fpl_modes_initial_state(lat, 1, 1.0, y));
+    CHECK_OK(fpl_lattice_energy(lat, y, &e0));
+    double worst = 0.0;
+    const long steps = (long)(100.0 / dt + 0.5);
+    for (int chunk = 0; chunk < 100; chunk++) {
+        CHECK_OK(fpl_splitting_advance(scheme(name), lat, y, 0, dt, steps));
+        CHECK_OK(fpl_lattice_energy(lat, y, &e));
+        worst = fmax(worst, fabs(e - e0) / e0);
+    }
+    fpl_lattice_free(&lat);
+    printf("%s dt %g: max relative energy error to t = 1e4: %.2e\n", name, dt, worst);
+    return worst;
+}
+
+static void test_energy(void)
+{
+    const double ref = energy_error("yoshida4", 0.01); /* the paper's integrator and step */
+    /* measured: yoshida4 dt 0.01 6.0e-12; aba864 dt 0.05 2.4e-12 (140 force evaluations per
+     * unit time against yoshida4's 300); srkn14a6 dt 0.05 4.5e-14 (near round-off) */
+    const double aba = energy_error("aba864", 0.05);
+    const double srkn = energy_error("srkn14a6", 0.05);
+    CHECK(aba < 1e-9 && aba <= ref, "aba864 dt 0.05: %g (yoshida4 dt 0.01: %g)", aba, ref);
+    CHECK(srkn < 1e-9 && srkn <= ref, "srkn14a6 dt 0.05: %g (yoshida4 dt 0.01: %g)", srkn, ref);
+    CHECK(aba < 1e-11, "aba864 dt 0.05: %g", aba);
+    CHECK(srkn < 1e-12, "srkn14a6 dt 0.05: %g", srkn);
+}
+
+/* (d) The tangent map is the derivative of the numerical flow: compare each deviation vector
+ * with central differences of two nearby orbits (as test_splitting.c does for yoshida4). */
+static void test_tangent_map(const char *name, int model)
+{
+    const int n = 16, n_dev = 2, dim = 2 * n * (1 + n_dev);
+    double v[16], y[96], yp[32], ym[32];
+    CHECK_OK(fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, 20.0, 11, n, v));
+    fpl_lattice *lat = NULL;
+    CHECK_OK(fpl_lattice_create(n, 0.25, 0.1, model, v, &lat));
+    if (!lat) return;
+    for (int i = 0; i < dim; i++) y[i] = (i < 2 * n ? 0.5 : 1.0) * check_uniform();
+    double w0[64];
+    memcpy(w0, y + 2 * n, sizeof(double) * 4 * n);
+    const double dt = 0.02;
+    const long steps = 250; /* t = 5 */
+    for (int m = 0; m < n_dev; m++) {
+        const double eps = 1e-6;
+        for (int i = 0; i < 2 * n; i++) {
+            yp[i] = y[i] + eps * w0[2 * n * m + i];
+            ym[i] = y[i] - eps * w0[2 * n * m + i];
+        }
+        CHECK_OK(fpl_splitting_advance(scheme(name), lat, yp, 0, dt, steps));
+        CHECK_OK(fpl_splitting_advance(scheme(name), lat, ym, 0, dt, steps));
+        for (int i = 0; i < 2 * n; i++) w0[2 * n * m + i] = (yp[i] - ym[i]) / (2 * eps);
+    }
+    CHECK_OK(fpl_splitting_advance(scheme(name), lat, y, n_dev, dt, steps));
+    double worst = 0.0, scale = 0.0;
+    for (int i = 0; i < 4 * n; i++) {
+        worst = fmax(worst, fabs(y[2 * n + i] - w0[i]));
+        scale = fmax(scale, fabs(w0[i]));
+    }
+    CHECK(worst < 1e-6 * scale, "%s model %d: tangent map vs FD of orbits: %g (scale %g)", name,
+          model, worst, scale);
+    printf("%s model %d: tangent map vs FD of orbits: %.1e (scale %.1e)\n", name, model, worst,
+           scale);
+    fpl_lattice_free(&lat);
+}
+
+int main(void)
+{
+    test_tables();
+    test_tables_linear_order();
+    /* strongly nonlinear N = 8 chain: mode 1 with amplitude 3 (max |x| ~ 3, alpha x ~ 0.7) */
+    for (int model = 1; model <= 3; model++) {
+        test_order("aba864", model, 3.0, 10.0, 0.25, 4.0);
+        test_order("srkn14a6", model, 3.0, 20.0, 0.5, 6.0);
+    }
+    test_aba864_small_amplitude();
+    test_energy();
+    for (int model = 1; model <= 3; model++) {
+        test_tangent_map("aba864", model);
+        test_tangent_map("srkn14a6", model);
+    }
+    return check_report("schemes");
+}
