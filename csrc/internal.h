@@ -11,6 +11,15 @@
 
 #define FPL_ERRMSG_LEN 512
 
+/* Hot kernels are compiled twice on x86-64 (baseline SSE2 and x86-64-v3: AVX2 + FMA) and the
+ * loader picks the best one for the CPU (GCC target_clones / ifunc): portable binaries that
+ * still use 4-wide vectors where the machine has them. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define FPL_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define FPL_HOT
+#endif
+
 /* Record an error (thread-local, and on the handle if one is given) and return status. */
 int fpl_error(fpl_lattice *lattice, int status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
@@ -79,6 +88,8 @@ void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int 
 
 extern const fpl_splitting fpl_scheme_leapfrog;
 extern const fpl_splitting fpl_scheme_yoshida4;
+extern const fpl_splitting fpl_scheme_aba864;
+extern const fpl_splitting fpl_scheme_srkn14a6;
 
 /* Sine-transform workspace owned by the lattice (modes.c). */
 int fpl_modes_alloc(fpl_lattice *lat);

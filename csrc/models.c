@@ -94,7 +94,7 @@ static void add_divergence_unit(int n, double h, const double *restrict phi, dou
 
 /* ---- kicks (the hot path of the splitting schemes) ------------------------------------- */
 
-static void kick_generic(fpl_lattice *lat, double *y, int n_dev, double h)
+FPL_HOT static void kick_generic(fpl_lattice *lat, double *y, int n_dev, double h)
 {
     const int n = lat->n;
     bond_forces_generic(n, y, lat->cl, lat->cn, lat->alpha, lat->beta, lat->phi,
@@ -107,7 +107,7 @@ static void kick_generic(fpl_lattice *lat, double *y, int n_dev, double h)
     }
 }
 
-static void kick_homogeneous(fpl_lattice *lat, double *y, int n_dev, double h)
+FPL_HOT static void kick_homogeneous(fpl_lattice *lat, double *y, int n_dev, double h)
 {
     const int n = lat->n;
     bond_forces_homogeneous(n, y, lat->alpha, lat->beta, lat->phi, n_dev > 0 ? lat->kappa : NULL);

@@ -7,4 +7,5 @@
 #include "fputlab/modes.h"
 #include "fputlab/disorder.h"
 #include "fputlab/splitting.h"
+#include "fputlab/integrator.h"
 #endif

@@ -6,7 +6,9 @@
  * whose equations have the same x'' = F(x) form). Deviation vectors are carried with the
  * tangent map of the same scheme (Skokos & Gerlach 2010): each drift/kick is differentiated
  * exactly, so the deviation vectors are the derivative of the numerical map.
- * Schemes: "leapfrog" (Stormer-Verlet, order 2), "yoshida4" (Yoshida/Forest-Ruth, order 4). */
+ * Schemes: "leapfrog" (Stormer-Verlet, order 2), "yoshida4" (Yoshida/Forest-Ruth, order 4),
+ * "aba864" (Blanes et al. 2013 ABA(8,6,4), order 4, 7 force evaluations) and "srkn14a6"
+ * (Blanes & Moan 2002 SRKN_14^a, order 6, 14 force evaluations). */
 #ifndef FPUTLAB_SPLITTING_H
 #define FPUTLAB_SPLITTING_H
 
@@ -34,20 +36,7 @@ FPL_API int fpl_splitting_stages(const fpl_splitting *scheme);
 FPL_API int fpl_splitting_advance(const fpl_splitting *scheme, fpl_lattice *lattice, double *y,
                                   int n_dev, double dt, long nsteps);
 
-/* Integrate the orbit y0 (length 2N, not modified) from t0 with fixed step dt and sample it at
- * the increasing times t_samples[0..n_samples-1] (each >= t0). The trajectory stays on the grid
- * t0 + n dt (time is n*dt, never accumulated); a sample between grid points is taken by one
- * extra partial step from a copy of the state. Outputs (any may be NULL):
- *   mode_energies  n_samples x N   E_k at each sample (row-major)
- *   energies       n_samples       energy as fpl_lattice_energy
- *   states         n_samples x 2N  the state
- * *n_done receives the number of samples written. If the state becomes non-finite the run stops,
- * returns FPL_ERR_NONFINITE with the time interval in the message, and every sample written
- * before that is finite. */
-FPL_API int fpl_splitting_run(const fpl_splitting *scheme, fpl_lattice *lattice, const double *y0,
-                              double t0, double dt, const double *t_samples, int n_samples,
-                              double *mode_energies, double *energies, double *states,
-                              int *n_done);
+/* For sampled runs with any method use fpl_integrator_* (fputlab/integrator.h). */
 
 #ifdef __cplusplus
 }

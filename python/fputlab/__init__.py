@@ -7,11 +7,12 @@
 """
 from ._errors import FputlabError, IntegrationError
 from ._native import ffi as _ffi, lib as _lib
-from .integrate import Run, integrate, methods
+from .integrate import Integrator, Run, integrate, iter_samples, method_info, methods
 from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
 from .modes import mode_matrix, omega
 
 __version__ = _ffi.string(_lib.fpl_version()).decode()
 
-__all__ = ["Lattice", "draw_disorder", "integrate", "methods", "Run", "omega", "mode_matrix",
+__all__ = ["Lattice", "draw_disorder", "integrate", "iter_samples", "Integrator", "methods",
+           "method_info", "Run", "omega", "mode_matrix",
            "MODELS", "DISORDERS", "FputlabError", "IntegrationError", "__version__"]

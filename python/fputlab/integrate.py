@@ -1,34 +1,125 @@
-"""Fixed-step symplectic integration of a lattice with sampled mode energies."""
+"""One integration API for every method (splitting schemes, ARKODE, CVODE, GSL), with
+deviation vectors, sampled without storing the trajectory."""
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Iterator
 
 import numpy as np
 
 from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
-from .lattice import Lattice, _real
+from .lattice import Lattice, _int, _real
 
 
 def methods() -> list[str]:
-    """Names of the fixed-step splitting schemes."""
-    return [ffi.string(lib.fpl_splitting_name(lib.fpl_splitting_at(i))).decode()
-            for i in range(lib.fpl_splitting_count())]
+    """Names of all integration methods."""
+    return [ffi.string(lib.fpl_method_name(i)).decode() for i in range(lib.fpl_method_count())]
 
 
-def _scheme(method: str):
+def method_info(method: str) -> dict:
+    """{'order': int, 'adaptive': bool} for a method name."""
     if not isinstance(method, str):
         raise TypeError(f"method must be a string, got {type(method).__name__}")
-    out = ffi.new("const fpl_splitting **")
-    check(lib.fpl_splitting_lookup(method.encode(), out))
-    return out[0]
+    order, adaptive = ffi.new("int *"), ffi.new("int *")
+    check(lib.fpl_method_info(method.encode(), order, adaptive))
+    return {"order": order[0], "adaptive": bool(adaptive[0])}
+
+
+class Integrator:
+    """An integrator positioned at (t, y), with `n_dev` deviation vectors carried along.
+
+    Fixed-step methods ("leapfrog", "yoshida4", ...) use `dt`; adaptive ones ("dop853",
+    "cvode-adams", ...) use `rtol`/`atol` (and `dt` as an initial step if given)."""
+
+    def __init__(self, lattice: Lattice, y0, *, method: str = "yoshida4", t0: float = 0.0,
+                 dt: float | None = None, rtol: float = 1e-10, atol: float = 1e-12,
+                 max_steps: int = 0):
+        if not isinstance(lattice, Lattice):
+            raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
+        info = method_info(method)
+        y, n_dev = lattice._state(y0, "y0")
+        self.lattice, self.method, self.n_dev = lattice, method, n_dev
+        self.adaptive = info["adaptive"]
+        opt = ffi.new("fpl_integrator_options *")
+        lib.fpl_integrator_options_init(opt)
+        if dt is not None:
+            opt.dt = _real(dt, "dt")
+        elif self.adaptive:
+            opt.dt = 0.0
+        opt.rtol, opt.atol = _real(rtol, "rtol"), _real(atol, "atol")
+        opt.max_steps = _int(max_steps, "max_steps")
+        self.dt = opt.dt
+        out = ffi.new("fpl_integrator **")
+        check(lib.fpl_integrator_create(lattice._h, method.encode(), n_dev, opt,
+                                        _real(t0, "t0"), ptr(y), out))
+        self._h = ffi.gc(out[0], lambda h: lib.fpl_integrator_free(ffi.new("fpl_integrator **", h)))
+        self._shape = (1 + n_dev, 2 * lattice.N)
+
+    def _check(self, status: int) -> int:
+        # fpl_last_error() holds the failing call's message (also on the handle)
+        return check(status)
+
+    @property
+    def t(self) -> float:
+        """Time of the internal state (fixed-step: the last grid point reached)."""
+        return lib.fpl_integrator_time(self._h)
+
+    @property
+    def state(self) -> np.ndarray:
+        """Internal state, shape (1 + n_dev, 2N)."""
+        y = np.empty(self._shape)
+        check(lib.fpl_integrator_get_state(self._h, ptr(y)))
+        return y
+
+    @property
+    def counters(self) -> dict:
+        s, f = ffi.new("long *"), ffi.new("long *")
+        lib.fpl_integrator_counters(self._h, s, f)
+        return {"steps": s[0], "force_evals": f[0]}
+
+    def advance(self, t: float) -> np.ndarray:
+        """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
+        y = np.empty(self._shape)
+        self._check(lib.fpl_integrator_advance(self._h, _real(t, "t"), ptr(y)))
+        return y
+
+    def transform_deviations(self, m) -> None:
+        """w_i <- sum_j m[i, j] w_j (renormalisation, Gram-Schmidt)."""
+        m = as_float_array(m, "m", (self.n_dev, self.n_dev))
+        if self.n_dev:
+            self._check(lib.fpl_integrator_transform_deviations(self._h, ptr(m)))
+
+    def sample(self, times, *, states: bool = False, mode_energies: bool = True,
+               energies: bool = True):
+        """Advance through `times`, returning (done, states, mode_energies, energies) arrays for
+        the samples taken; raises IntegrationError (with the partial arrays) on failure."""
+        ts = as_float_array(times, "times")
+        if ts.ndim != 1:
+            raise ValueError(f"times has shape {ts.shape}, expected 1-D")
+        S, N = ts.size, self.lattice.N
+        st = np.empty((S,) + self._shape) if states else None
+        ek = np.empty((S, N)) if mode_energies else None
+        en = np.empty(S) if energies else None
+        done = ffi.new("int *")
+        nul = lambda a: ptr(a) if a is not None and S else ffi.NULL
+        status = lib.fpl_integrator_sample(self._h, nul(ts), S, nul(st), nul(ek), nul(en), done)
+        k = done[0]
+        cut = lambda a: None if a is None else a[:k]
+        try:
+            self._check(status)
+        except IntegrationError as err:
+            err.partial = (k, cut(st), cut(ek), cut(en))
+            raise
+        return k, st, ek, en
 
 
 @dataclass
 class Run:
-    """Samples of one integration. `mode_energies[i, k-1]` is E_k at `t[i]`."""
+    """Samples of one integration. `mode_energies[i, k-1]` is E_k at `t[i]`; `states[i]` has shape
+    (1 + n_dev, 2N) when stored."""
     t: np.ndarray
     mode_energies: np.ndarray
     energy: np.ndarray
@@ -39,6 +130,7 @@ class Run:
     completed: bool = True
     message: str = ""
     y0: np.ndarray = field(default=None, repr=False)
+    counters: dict = field(default_factory=dict)
 
     @property
     def relative_energy_error(self) -> np.ndarray:
@@ -47,64 +139,97 @@ class Run:
         return np.abs(self.energy - e0) / abs(e0)
 
 
-def integrate(lattice: Lattice, t_end: float, *, dt: float = 0.01, sample_every: float | None = None,
-              times=None, y0=None, method: str = "yoshida4", t0: float = 0.0,
-              store_states: bool = False, on_failure: str = "raise") -> Run:
-    """Integrate `lattice` from `y0` (default: the paper's mode-1 state, Eq. initxi) to t_end with a
-    fixed-step splitting scheme, sampling at `times` or every `sample_every` (default: 1000
-    intervals). The trajectory stays on the grid t0 + n dt; off-grid samples are exact.
-
-    If the state becomes NaN/Inf (blow-up), on_failure="raise" raises IntegrationError whose
-    `.result` holds the finite samples before it; "return" returns them with completed=False."""
-    if not isinstance(lattice, Lattice):
-        raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
-    if on_failure not in ("raise", "return"):
-        raise ValueError(f"on_failure must be 'raise' or 'return', got {on_failure!r}")
-    scheme = _scheme(method)
-    t0 = _real(t0, "t0")
-    t_end = _real(t_end, "t_end")
-    dt = _real(dt, "dt")
-    if not (math.isfinite(t_end) and t_end >= t0):
-        raise ValueError(f"t_end must be finite and >= t0 = {t0:g} (got {t_end:g})")
-    if not (math.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt must be finite and > 0 (got {dt:g})")
+def _sample_times(t0, t_end, sample_every, times):
     if times is not None:
         if sample_every is not None:
             raise ValueError("give either times or sample_every, not both")
         ts = as_float_array(times, "times")
         if ts.ndim != 1:
             raise ValueError(f"times has shape {ts.shape}, expected 1-D")
-    else:
-        every = (t_end - t0) / 1000 if sample_every is None else _real(sample_every, "sample_every")
-        if t_end == t0:
-            ts = np.array([t0])
-        else:
-            if not (math.isfinite(every) and every > 0):
-                raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
-            n = int(math.floor((t_end - t0) / every * (1 + 1e-12)))
-            ts = t0 + every * np.arange(n + 1)
+        return ts
+    if t_end == t0:
+        return np.array([t0])
+    every = (t_end - t0) / 1000 if sample_every is None else _real(sample_every, "sample_every")
+    if not (math.isfinite(every) and every > 0):
+        raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
+    n = int(math.floor((t_end - t0) / every * (1 + 1e-12)))
+    return t0 + every * np.arange(n + 1)
+
+
+def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
+              rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
+              times=None, y0=None, deviations=None, t0: float = 0.0, store_states: bool = False,
+              chunk: int = 4096, on_failure: str = "raise") -> Run:
+    """Integrate `lattice` from `y0` (default: the paper's mode-1 state, Eq. initxi) to `t_end`,
+    sampling at `times` or every `sample_every` (default: 1000 intervals).
+
+    method: a fixed-step splitting scheme (dt, default 0.01) or an adaptive method (rtol, atol);
+    see fputlab.methods(). deviations: initial deviation vectors, shape (k, 2N), carried with
+    the tangent map / variational equations (then store_states=True to get them back).
+    If the state becomes NaN/Inf (blow-up), on_failure="raise" raises IntegrationError whose
+    `.result` holds the finite samples before it; "return" returns them with completed=False."""
+    if not isinstance(lattice, Lattice):
+        raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
+    if on_failure not in ("raise", "return"):
+        raise ValueError(f"on_failure must be 'raise' or 'return', got {on_failure!r}")
+    t0, t_end = _real(t0, "t0"), _real(t_end, "t_end")
+    if not (math.isfinite(t_end) and t_end >= t0):
+        raise ValueError(f"t_end must be finite and >= t0 = {t0:g} (got {t_end:g})")
+    if dt is not None:
+        dt = _real(dt, "dt")
+        if not (math.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be finite and > 0 (got {dt:g})")
+    elif not method_info(method)["adaptive"]:
+        dt = 0.01
+    ts = _sample_times(t0, t_end, sample_every, times)
     N = lattice.N
-    y0 = lattice.mode_state(1, 1.0) if y0 is None else as_float_array(y0, "y0", (2 * N,))
-    S = ts.size
-    ek = np.empty((S, N))
-    en = np.empty(S)
-    st = np.empty((S, 2 * N)) if store_states else None
-    done = ffi.new("int *")
-    status = lib.fpl_splitting_run(scheme, lattice._h, ptr(y0), t0, dt,
-                                   ptr(ts) if S else ffi.NULL, S, ptr(ek) if S else ffi.NULL,
-                                   ptr(en) if S else ffi.NULL,
-                                   ptr(st) if store_states and S else ffi.NULL, done)
-    k = done[0]
-    run = Run(t=ts[:k].copy(), mode_energies=ek[:k].copy(), energy=en[:k].copy(),
-              states=st[:k].copy() if store_states else None, lattice=lattice, method=method,
-              dt=dt, completed=status >= 0, y0=y0.copy())
-    if status < 0:
+    orbit = lattice.mode_state(1, 1.0) if y0 is None else as_float_array(y0, "y0", (2 * N,))
+    if deviations is not None:
+        dev = as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)
+        state0 = np.concatenate([orbit[None, :], dev])
+    else:
+        state0 = orbit[None, :]
+    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
+    parts = {"t": [], "ek": [], "en": [], "st": []}
+    message, completed = "", True
+    for start in range(0, ts.size, chunk):
+        block = ts[start:start + chunk]
         try:
-            lattice._check(status)
+            k, st, ek, en = integ.sample(block, states=store_states)
         except IntegrationError as err:
-            run.message = str(err)
-            if on_failure == "raise":
-                err.result = run
-                raise
-            return run
+            k, st, ek, en = err.partial
+            completed, message = False, str(err)
+        parts["t"].append(block[:k])
+        parts["ek"].append(ek[:k])
+        parts["en"].append(en[:k])
+        if store_states:
+            parts["st"].append(st[:k])
+        if not completed:
+            break
+    cat = lambda xs, shape: np.concatenate(xs) if xs else np.empty(shape)
+    states = cat(parts["st"], (0, 1 + integ.n_dev, 2 * N)) if store_states else None
+    if states is not None and integ.n_dev == 0:
+        states = states[:, 0, :]
+    run = Run(t=cat(parts["t"], (0,)), mode_energies=cat(parts["ek"], (0, N)),
+              energy=cat(parts["en"], (0,)), states=states, lattice=lattice, method=method,
+              dt=dt if dt is not None else float("nan"), completed=completed, message=message,
+              y0=orbit.copy(), counters=integ.counters)
+    if not completed and on_failure == "raise":
+        err = IntegrationError(message, lib.FPL_ERR_NONFINITE, run)
+        raise err
     return run
+
+
+def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: str = "yoshida4",
+                 t0: float = 0.0, dt: float | None = None, rtol: float = 1e-10,
+                 atol: float = 1e-12) -> Iterator[tuple[float, np.ndarray]]:
+    """Stream (t, state) pairs, state of shape (1 + k, 2N), without keeping the trajectory."""
+    N = lattice.N
+    orbit = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * N,))
+    state0 = orbit[None, :] if deviations is None else np.concatenate(
+        [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
+    if dt is None and not method_info(method)["adaptive"]:
+        dt = 0.01
+    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
+    for t in as_float_array(times, "times"):
+        yield float(t), integ.advance(t)

@@ -35,7 +35,7 @@ static int check_report(const char *name)
 
 /* Deterministic pseudo-random numbers in [-1, 1) for test inputs (independent of the library). */
 static unsigned long long check_rng_state = 88172645463325252ULL;
-static double check_uniform(void)
+static inline double check_uniform(void)
 {
     check_rng_state ^= check_rng_state << 13;
     check_rng_state ^= check_rng_state >> 7;

@@ -58,29 +58,52 @@ int main(void)
     EXPECT_ERR(fpl_splitting_advance(s, lat, y, 0, -0.1, 10), FPL_ERR_ARG, "dt");
     EXPECT_ERR(fpl_splitting_advance(s, lat, y, 0, NAN, 10), FPL_ERR_ARG, "dt");
     EXPECT_ERR(fpl_splitting_advance(s, lat, y, 0, 0.01, -3), FPL_ERR_ARG, "nsteps");
+    fpl_integrator *h = NULL;
+    fpl_integrator_options opt;
+    fpl_integrator_options_init(&opt);
+    EXPECT_ERR(fpl_integrator_create(lat, "rk4-magic", 0, &opt, 0.0, y, &h), FPL_ERR_UNKNOWN,
+               "rk4-magic");
+    CHECK(h == NULL, "no handle on failure");
+    EXPECT_ERR(fpl_integrator_create(lat, "yoshida4", -1, &opt, 0.0, y, &h), FPL_ERR_ARG, "n_dev");
+    EXPECT_ERR(fpl_integrator_create(lat, "yoshida4", 0, &opt, NAN, y, &h), FPL_ERR_ARG, "t0");
+    opt.dt = 0.0;
+    EXPECT_ERR(fpl_integrator_create(lat, "yoshida4", 0, &opt, 0.0, y, &h), FPL_ERR_ARG, "dt");
+    opt.dt = -1.0;
+    EXPECT_ERR(fpl_integrator_create(lat, "leapfrog", 0, &opt, 0.0, y, &h), FPL_ERR_ARG, "dt");
+    opt.dt = 0.01;
+    y[3] = INFINITY;
+    EXPECT_ERR(fpl_integrator_create(lat, "yoshida4", 0, &opt, 0.0, y, &h), FPL_ERR_ARG, "y0[3]");
+    y[3] = 0.0;
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, &opt, 0.0, y, &h));
     double ts[3] = {1.0, 0.5, 2.0}, ek[12];
     int done = -1;
-    EXPECT_ERR(fpl_splitting_run(s, lat, y, 0.0, 0.01, ts, 3, ek, NULL, NULL, &done), FPL_ERR_ARG,
-               "t_samples[1]");
+    EXPECT_ERR(fpl_integrator_sample(h, ts, 3, NULL, ek, NULL, &done), FPL_ERR_ARG, "t_samples[1]");
     CHECK(done == 0, "nothing done");
-    ts[1] = 1.5;
-    EXPECT_ERR(fpl_splitting_run(s, lat, y, 2.0, 0.01, ts, 3, ek, NULL, NULL, &done), FPL_ERR_ARG,
-               "t_samples[0]");
-    EXPECT_ERR(fpl_splitting_run(s, lat, y, NAN, 0.01, ts, 3, ek, NULL, NULL, &done), FPL_ERR_ARG,
-               "t0");
+    CHECK(strstr(fpl_integrator_errmsg(h), "t_samples[1]") != NULL, "handle message");
+    CHECK_OK(fpl_integrator_advance(h, 3.0, NULL));
+    EXPECT_ERR(fpl_integrator_advance(h, 2.0, NULL), FPL_ERR_ARG, "t_target");
+    EXPECT_ERR(fpl_integrator_advance(h, NAN, NULL), FPL_ERR_ARG, "t_target");
+    fpl_integrator_free(&h);
+    CHECK(h == NULL, "free clears the handle");
 
-    /* a run that blows up ends cleanly, says when, and leaves only finite samples */
+    /* a run that blows up ends cleanly, says when, keeps the last finite state, and leaves only
+     * finite samples */
     double big[8];
     CHECK_OK(fpl_modes_initial_state(lat, 1, 30.0, big)); /* far beyond the cubic barrier */
     double tb[50], eb[50 * 4], en[50];
     for (int i = 0; i < 50; i++) tb[i] = 0.5 * (i + 1);
     for (int i = 0; i < 50 * 4; i++) eb[i] = -1.0;
-    int st = fpl_splitting_run(s, lat, big, 0.0, 0.01, tb, 50, eb, en, NULL, &done);
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, &opt, 0.0, big, &h));
+    int st = fpl_integrator_sample(h, tb, 50, NULL, eb, en, &done);
     CHECK(st == FPL_ERR_NONFINITE, "blow-up status %d", st);
-    CHECK(strstr(fpl_lattice_errmsg(lat), "between t =") != NULL, "blow-up message: %s",
-          fpl_lattice_errmsg(lat));
+    CHECK(strstr(fpl_integrator_errmsg(h), "between t =") != NULL, "blow-up message: %s",
+          fpl_integrator_errmsg(h));
     CHECK(done < 50, "stopped early (%d samples)", done);
     for (int i = 0; i < done * 4; i++) CHECK(isfinite(eb[i]), "sample %d not finite", i);
+    double last[8];
+    CHECK_OK(fpl_integrator_get_state(h, last));
+    for (int i = 0; i < 8; i++) CHECK(isfinite(last[i]), "last state not finite");
+    fpl_integrator_free(&h);
     fpl_lattice_free(&lat);
     fpl_lattice_free(&lat); /* double free of a cleared handle is harmless */
     fpl_lattice_free(NULL);

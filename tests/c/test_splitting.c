@@ -116,7 +116,10 @@ static void test_recurrence(void)
     double *ts = malloc(sizeof(double) * ns), *ek = malloc(sizeof(double) * ns * n);
     for (int i = 0; i < ns; i++) ts[i] = 4e4 + 10.0 * i;
     int done = 0;
-    CHECK_OK(fpl_splitting_run(scheme("yoshida4"), lat, y0, 0.0, 0.01, ts, ns, ek, NULL, NULL, &done));
+    fpl_integrator *h = NULL;
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, NULL, 0.0, y0, &h)); /* dt = 0.01 */
+    CHECK_OK(fpl_integrator_sample(h, ts, ns, NULL, ek, NULL, &done));
+    fpl_integrator_free(&h);
     CHECK(done == ns, "samples %d", done);
     double best = 0.0, t_best = 0.0;
     for (int i = 0; i < done; i++)

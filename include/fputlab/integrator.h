@@ -1,0 +1,88 @@
+/* fputlab — one integration API for every method: our fixed-step splitting schemes and the
+ * adaptive SUNDIALS (ARKODE, CVODE) and GSL back ends, for any model, with n_dev deviation
+ * vectors carried along (tangent map for splitting schemes, variational equations otherwise).
+ *
+ *   fpl_integrator *h;
+ *   fpl_integrator_options opt;  fpl_integrator_options_init(&opt);  opt.dt = 0.01;
+ *   fpl_integrator_create(lat, "yoshida4", n_dev, &opt, 0.0, y0, &h);
+ *   fpl_integrator_advance(h, 100.0, y);        // y = state at t = 100
+ *   fpl_integrator_free(&h);
+ *
+ * Samples can be streamed to a callback (fpl_integrator_run) or written to arrays
+ * (fpl_integrator_sample); the trajectory itself is never stored.
+ * Fixed-step methods keep the internal state on the grid t0 + n dt (n is a 64-bit step count,
+ * so time never drifts); a sample between grid points is one partial step from a copy.
+ * Adaptive methods stop exactly at each requested time (no interpolation). */
+#ifndef FPUTLAB_INTEGRATOR_H
+#define FPUTLAB_INTEGRATOR_H
+
+#include "fputlab/common.h"
+#include "fputlab/lattice.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct fpl_integrator fpl_integrator;
+
+typedef struct fpl_integrator_options {
+    double dt;        /* fixed-step methods: the step (> 0); adaptive: initial step (0 = automatic) */
+    double rtol;      /* adaptive methods: relative tolerance (> 0) */
+    double atol;      /* adaptive methods: absolute tolerance (> 0) */
+    long max_steps;   /* adaptive methods: internal steps allowed per advance (0 = 10^8) */
+} fpl_integrator_options;
+
+/* dt = 0.01, rtol = 1e-10, atol = 1e-12, max_steps = 0. */
+FPL_API void fpl_integrator_options_init(fpl_integrator_options *opt);
+
+/* Methods by name: fpl_method_count / fpl_method_name list them; fpl_method_info tells order
+ * and whether the method is adaptive (FPL_ERR_UNKNOWN for an unknown name). */
+FPL_API int fpl_method_count(void);
+FPL_API const char *fpl_method_name(int index);
+FPL_API int fpl_method_info(const char *name, int *order, int *adaptive);
+
+/* Create an integrator at (t0, y0); y0 has length 2N(1 + n_dev). The lattice must outlive it
+ * and must not be used by another thread meanwhile. opt NULL means defaults. */
+FPL_API int fpl_integrator_create(fpl_lattice *lattice, const char *method, int n_dev,
+                                  const fpl_integrator_options *opt, double t0, const double *y0,
+                                  fpl_integrator **out);
+FPL_API void fpl_integrator_free(fpl_integrator **integrator);
+FPL_API const char *fpl_integrator_errmsg(const fpl_integrator *integrator);
+FPL_API const char *fpl_integrator_method(const fpl_integrator *integrator);
+FPL_API int fpl_integrator_n_dev(const fpl_integrator *integrator);
+
+/* Integrate to t_target (>= the current time) and write the state there into y_out (length
+ * 2N(1+n_dev); may be NULL). FPL_ERR_NONFINITE if the state became NaN/Inf (the message says
+ * between which times; the internal state is then the last finite one); FPL_ERR_BACKEND with
+ * the SUNDIALS/GSL flag and message if the back end failed. */
+FPL_API int fpl_integrator_advance(fpl_integrator *integrator, double t_target, double *y_out);
+
+/* Time of the internal state (for fixed-step methods the last grid point reached). */
+FPL_API double fpl_integrator_time(const fpl_integrator *integrator);
+/* Copy the internal state (length 2N(1+n_dev)). */
+FPL_API int fpl_integrator_get_state(const fpl_integrator *integrator, double *y);
+
+/* Replace the deviation vectors w_i by sum_j m[i*n_dev + j] w_j (a linear map, which commutes
+ * with the linear tangent dynamics: used for renormalisation and Gram-Schmidt). */
+FPL_API int fpl_integrator_transform_deviations(fpl_integrator *integrator, const double *m);
+
+/* Steps taken and right-hand-side (force) evaluations so far. */
+FPL_API int fpl_integrator_counters(const fpl_integrator *integrator, long *steps,
+                                    long *force_evals);
+
+/* Sample at increasing times: any output may be NULL; rows are per sample:
+ * states n x 2N(1+n_dev), mode_energies n x N (of the orbit), energies n. *n_done gets the number
+ * of samples written; all are finite. */
+FPL_API int fpl_integrator_sample(fpl_integrator *integrator, const double *t_samples,
+                                  int n_samples, double *states, double *mode_energies,
+                                  double *energies, int *n_done);
+
+/* Stream samples to a callback; a non-zero return from it stops the run with FPL_EVENT. */
+typedef int (*fpl_sample_fn)(void *ctx, double t, const double *y, int n_dev);
+FPL_API int fpl_integrator_run(fpl_integrator *integrator, const double *t_samples, int n_samples,
+                               fpl_sample_fn callback, void *ctx, int *n_done);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
