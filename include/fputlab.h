@@ -8,4 +8,5 @@
 #include "fputlab/disorder.h"
 #include "fputlab/splitting.h"
 #include "fputlab/integrator.h"
+#include "fputlab/chaos.h"
 #endif

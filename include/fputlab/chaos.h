@@ -1,0 +1,69 @@
+/* fputlab — chaos indicators along an orbit: maximum Lyapunov exponent (Benettin et al. 1980,
+ * renormalisation every `renorm_interval`), SALI (Skokos 2001) and GALI_k (Skokos, Bountis &
+ * Antonopoulos 2007). Works with every integration method: the tangent map for splitting schemes,
+ * the variational equations for the adaptive ones.
+ *
+ * Deviation vectors are normalised (never orthogonalised) at every renormalisation, which changes
+ * nothing in the linear tangent dynamics but the bookkeeping:
+ *   lambda(t) = (1/t) sum ln ||w_1|| over the renormalisations (w_1 the first vector),
+ *   SALI(t)   = min(||w1^ - w2^||, ||w1^ + w2^||),  GALI_k(t) = sqrt(det(W^T W)) for the k
+ *               normalised vectors W (the product of its singular values). */
+#ifndef FPUTLAB_CHAOS_H
+#define FPUTLAB_CHAOS_H
+
+#include "fputlab/common.h"
+#include "fputlab/integrator.h"
+#include "fputlab/lattice.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct fpl_chaos_options {
+    double t_end;             /* final time (> t0) */
+    double renorm_interval;   /* time between renormalisations (> 0; default 1.0). For fixed-step
+                                 methods a multiple of dt keeps renormalisation on the grid. */
+    int n_samples;            /* number of log-spaced output samples (>= 1; default 200) */
+    double t_first_sample;    /* first output time after t0 (> 0; default renorm_interval) */
+    int n_dev;                /* deviation vectors (1 = mLE only, >= 2 adds SALI and GALI_n_dev) */
+    double sali_threshold;    /* SALI below this marks the orbit chaotic (default 1e-8) */
+    int stop_when_chaotic;    /* non-zero: stop as soon as SALI < sali_threshold */
+    unsigned long seed;       /* random initial deviation vectors when w0 is NULL */
+} fpl_chaos_options;
+
+typedef struct fpl_chaos_result {
+    int n_samples;            /* samples written */
+    double t_final;           /* time reached */
+    double mle;               /* lambda(t_final) */
+    double sali;              /* SALI(t_final) (NaN if n_dev < 2) */
+    double gali;              /* GALI_{n_dev}(t_final) (NaN if n_dev < 2) */
+    int chaotic;              /* SALI fell below sali_threshold */
+    double t_chaotic;         /* first renormalisation time with SALI < threshold (NaN if none) */
+    long steps;               /* integrator steps taken */
+} fpl_chaos_result;
+
+/* renorm_interval 1.0, n_samples 200, t_first_sample 0 (= renorm_interval), n_dev 2,
+ * sali_threshold 1e-8, stop_when_chaotic 0, seed 1; t_end must be set. */
+FPL_API void fpl_chaos_options_init(fpl_chaos_options *opt);
+
+/* Follow the orbit y0 (length 2N) from t0 with n_dev deviation vectors w0 (n_dev x 2N, row-major;
+ * NULL: Gaussian random vectors from the seed) and write lambda, SALI, GALI at log-spaced times
+ * into the arrays (each of length opt->n_samples, or NULL). On a blow-up the status is
+ * FPL_ERR_NONFINITE and the samples up to it are kept. */
+FPL_API int fpl_chaos_run(fpl_lattice *lattice, const char *method,
+                          const fpl_integrator_options *integrator_options, double t0,
+                          const double *y0, const double *w0, const fpl_chaos_options *opt,
+                          double *t_out, double *mle_out, double *sali_out, double *gali_out,
+                          fpl_chaos_result *result);
+
+/* SALI of two vectors of length len (each normalised first); 0 for parallel, sqrt(2) for
+ * orthogonal vectors. */
+FPL_API int fpl_chaos_sali(const double *w1, const double *w2, long len, double *sali);
+
+/* GALI_k of k vectors (k x len, row-major), each normalised first. */
+FPL_API int fpl_chaos_gali(const double *w, int k, long len, double *gali);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

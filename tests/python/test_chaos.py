@@ -1,0 +1,58 @@
+"""Chaos indicators from Python: the paper's regular homogeneous orbits, a chaotic orbit,
+classification, ensembles, bad input."""
+import numpy as np
+import pytest
+
+from fputlab import Lattice, chaos
+
+
+@pytest.mark.parametrize("N", [4, 8, 16, 32, 64])
+def test_homogeneous_paper_orbits_are_regular(N):
+    # paper Fig. 11: the mode-1 initial condition is regular for every N (here to t = 1e4)
+    res = chaos.lyapunov(Lattice(N, 0.25), 1e4, n_samples=40)
+    assert res.completed and not res.chaotic
+    assert res.sali.min() > 1e-3
+    assert np.all(res.mle * res.t < 10.0)          # lambda follows the 1/t law
+    assert res.classify() == "regular"
+
+
+def test_chaotic_orbit_and_early_stop():
+    lat = Lattice(8, 0.0, beta=1.0)                 # FPUT-beta: no escape at any energy
+    y0 = 1.5 * np.random.default_rng(0).standard_normal(16)
+    res = chaos.lyapunov(lat, 3e3, y0=y0, n_samples=30)
+    assert res.chaotic and res.sali[-1] < 1e-8 and res.classify() == "chaotic"
+    assert res.mle[-1] > 0.05
+    assert np.all(np.diff(res.t) > 0) and res.t[-1] == 3e3
+    stopped = chaos.lyapunov(lat, 3e3, y0=y0, stop_when_chaotic=True)
+    assert stopped.t_final == stopped.t_chaotic < 3e3
+    w0 = np.eye(16)[:3]
+    three = chaos.lyapunov(lat, 100.0, y0=y0, w0=w0, n_dev=3)
+    assert np.all((three.gali >= 0) & (three.gali <= 1.0 + 1e-12))
+
+
+def test_sali_gali_closed_forms():
+    a = np.array([1.0, 2.0, 3.0])
+    assert chaos.sali(a, 2 * a) < 1e-15
+    assert chaos.sali(a, np.array([2.0, -1.0, 0.0])) == pytest.approx(np.sqrt(2))
+    assert chaos.gali(np.eye(3)) == pytest.approx(1.0)
+    assert chaos.gali(np.array([[1.0, 0, 0], [1.0, 1e-9, 0]])) == pytest.approx(1e-9, rel=1e-6)
+
+
+def test_chaotic_fraction_runs_realisations_in_parallel():
+    out = chaos.chaotic_fraction(Ns=(4, 8), realisations=2, t_end=200.0, workers=2, n_samples=10)
+    assert out["N"] == [4, 8] and len(out["percent"]) == 2
+    assert all(len(out["results"][N]) == 2 for N in (4, 8))
+    seeds = {r.params["seed"] for r in out["results"][4]}
+    assert seeds == {1, 2}
+
+
+@pytest.mark.parametrize("kwargs,word", [
+    (dict(t_end=-1.0), "t_end"),
+    (dict(t_end=10.0, renorm_interval=0.0), "renorm_interval"),
+    (dict(t_end=10.0, n_dev=0), "n_dev"),
+    (dict(t_end=10.0, w0=np.ones((3, 8))), "w0 has shape"),
+    (dict(t_end=10.0, method="nope"), "nope"),
+])
+def test_bad_input(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        chaos.lyapunov(Lattice(4), **kwargs)
