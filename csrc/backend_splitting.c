@@ -21,6 +21,127 @@ static void split_release(fpl_integrator *h)
     h->data = NULL;
 }
 
+/* min_i g_i of the orbit in y, -inf if the orbit is not finite; *which gets the argmin. */
+static double event_min(fpl_integrator *h, const double *y, int *which)
+{
+    double g[8];
+    if (!fpl_is_finite_array(y, 2L * h->lat->n, NULL)) {
+        *which = 0;
+        return -INFINITY;
+    }
+    fpl_events_eval(h->lat, y, g);
+    double best = g[0];
+    *which = 0;
+    for (int i = 1; i < h->lat->events.n; i++)
+        if (g[i] < best) { best = g[i]; *which = i; }
+    return best;
+}
+
+/* An event fired inside the step from y_start (time t_start, already in h->scratch-free buffer
+ * `start`) of length dt: find the first zero of G(s) = min_i g_i(Phi_s(y_start)) for s in (0, dt]
+ * by the Illinois method (bisection while G is not finite), leave the event state in h->y. */
+static int locate_event(fpl_integrator *h, const double *start, double dt, double g_a, double *work)
+{
+    const fpl_splitting *s = h->method->data;
+    const double t_start = h->t;
+    double a = 0.0, b = dt, ga = g_a, gb = -INFINITY;
+    int which = 0, side = 0;
+    const double tol = 1e-13 * fmax(fabs(t_start) + dt, 1.0);
+    for (int it = 0; it < 300 && b - a > tol; it++) {
+        double m;
+        if (isfinite(gb)) {
+            m = (a * gb - b * ga) / (gb - ga);            /* regula falsi */
+            if (!(m > a && m < b)) m = 0.5 * (a + b);
+        } else {
+            m = 0.5 * (a + b);                             /* G(b) = -inf: bisect */
+        }
+        memcpy(work, start, sizeof(double) * (size_t)h->dim);
+        s->step(s, h->lat, work, h->n_dev, m);
+        h->n_force += s->n_kicks;
+        double gm = event_min(h, work, &which);
+        if (gm > 0.0) {
+            a = m; ga = gm;
+            if (side == 1 && isfinite(gb)) gb *= 0.5;      /* Illinois: avoid one-sided stalls */
+            side = 1;
+        } else {
+            b = m; gb = gm;
+            if (side == -1) ga *= 0.5;
+            side = -1;
+        }
+    }
+    /* the event state: the earliest point found past the crossing */
+    memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
+    s->step(s, h->lat, h->y, h->n_dev, b);
+    h->n_force += s->n_kicks;
+    double gfinal = event_min(h, h->y, &which);
+    if (!isfinite(gfinal)) {
+        /* The state left the finite numbers before any criterion reached zero: that is an
+         * integration failure, not an event. Keep the last finite grid state (start). */
+        memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
+        return fpl_error(NULL, FPL_ERR_NONFINITE,
+                         "state became non-finite near t = %.10g before any stopping criterion "
+                         "fired (blow-up too fast for dt = %g, or a NaN)", t_start + a, dt);
+    }
+    h->event_index = which;
+    h->t = t_start + b;
+    return FPL_EVENT;
+}
+
+/* Criteria are evaluated every EVENT_BLOCK steps (their cost is O(N), like a force); a block in
+ * which one fired is replayed step by step from its start to find the step, then refined inside
+ * it. A criterion that crosses and uncrosses within one block (EVENT_BLOCK dt) is not seen. */
+#define EVENT_BLOCK 16
+
+static int split_advance_events(fpl_integrator *h, long n_target, double *work)
+{
+    const fpl_splitting *s = h->method->data;
+    const double dt = h->opt.dt;
+    double *start = h->data;
+    int which;
+    double g = event_min(h, h->y, &which);
+    if (g <= 0.0) {
+        h->event_index = which;
+        return FPL_EVENT;
+    }
+    while (h->n_steps < n_target) {
+        long block = n_target - h->n_steps;
+        if (block > EVENT_BLOCK) block = EVENT_BLOCK;
+        memcpy(start, h->y, sizeof(double) * (size_t)h->dim);
+        for (long k = 0; k < block; k++)
+            s->step(s, h->lat, h->y, h->n_dev, dt);
+        double g_new = event_min(h, h->y, &which);
+        if (g_new <= 0.0) {
+            /* replay the block one step at a time */
+            memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
+            for (long k = 0; k < block; k++) {
+                memcpy(start, h->y, sizeof(double) * (size_t)h->dim);
+                s->step(s, h->lat, h->y, h->n_dev, dt);
+                g_new = event_min(h, h->y, &which);
+                if (g_new <= 0.0) {
+                    memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
+                    return locate_event(h, start, dt, g, work);
+                }
+                g = g_new;
+                h->n_steps++;
+                h->n_force += s->n_kicks;
+                h->t = h->t0 + (double)h->n_steps * dt;
+            }
+            continue; /* crossed and uncrossed within the block: nothing fired at its end */
+        }
+        if (h->n_dev && !fpl_is_finite_array(h->y, h->dim, NULL)) {
+            memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
+            return fpl_error(NULL, FPL_ERR_NONFINITE,
+                             "deviation vectors became non-finite between t = %.10g and t = %.10g",
+                             h->t, h->t + (double)block * dt);
+        }
+        g = g_new;
+        h->n_steps += block;
+        h->n_force += block * s->n_kicks;
+        h->t = h->t0 + (double)h->n_steps * dt;
+    }
+    return FPL_OK;
+}
+
 static int split_advance(fpl_integrator *h, double t_target, double *y_out)
 {
     const fpl_splitting *s = h->method->data;
@@ -32,6 +153,10 @@ static int split_advance(fpl_integrator *h, double t_target, double *y_out)
                          t_target, dt);
     /* Grid index counted from t0, never accumulated: no drift over 1e10 steps. */
     const long n_target = (long)floor(target + 1e-9);
+    if (h->lat->events.n > 0) {
+        int st = split_advance_events(h, n_target, y_out);
+        if (st) return st;
+    }
     while (h->n_steps < n_target) {
         long chunk = n_target - h->n_steps;
         if (chunk > FINITE_CHECK_INTERVAL) chunk = FINITE_CHECK_INTERVAL;
@@ -54,6 +179,14 @@ static int split_advance(fpl_integrator *h, double t_target, double *y_out)
     if (rest > 1e-9 * dt) {
         s->step(s, h->lat, y_out, h->n_dev, rest);
         h->n_force += s->n_kicks;
+        if (h->lat->events.n > 0) {
+            int which;
+            if (event_min(h, y_out, &which) <= 0.0) {
+                memcpy(backup, h->y, sizeof(double) * (size_t)h->dim);
+                double g0 = event_min(h, backup, &which);
+                return locate_event(h, backup, rest, g0, y_out);
+            }
+        }
         if (!fpl_is_finite_array(y_out, h->dim, NULL))
             return fpl_error(NULL, FPL_ERR_NONFINITE,
                              "state became non-finite between t = %.10g and t = %.10g "

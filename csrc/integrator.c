@@ -194,6 +194,30 @@ int fpl_integrator_counters(const fpl_integrator *h, long *steps, long *force_ev
     return FPL_OK;
 }
 
+int fpl_integrator_event(const fpl_integrator *h, int *index, double *t)
+{
+    if (!h) return 0;
+    if (index) *index = h->stopped ? h->event_index : -1;
+    if (t) *t = h->stopped ? h->t : NAN;
+    return h->stopped;
+}
+
+/* Advance through the back end; after an event the integrator stays where it stopped. */
+static int backend_advance(fpl_integrator *h, double t_target, double *y_out)
+{
+    if (h->stopped)
+        return fpl_error(NULL, FPL_ERR_ARG, "the integrator was stopped by an event (%s) at t = %.17g",
+                         fpl_lattice_event_describe(h->lat, h->event_index), h->t);
+    int st = h->method->backend->advance(h, t_target, y_out);
+    if (st == FPL_EVENT) {
+        h->stopped = 1;
+        memcpy(y_out, h->y, sizeof(double) * (size_t)h->dim);
+        fpl_error(NULL, FPL_EVENT, "event: %s at t = %.17g",
+                  fpl_lattice_event_describe(h->lat, h->event_index), h->t);
+    }
+    return st;
+}
+
 int fpl_integrator_advance(fpl_integrator *h, double t_target, double *y_out)
 {
     if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
@@ -203,8 +227,8 @@ int fpl_integrator_advance(fpl_integrator *h, double t_target, double *y_out)
                                  "t_target = %.17g must be finite and >= the current time %.17g",
                                  t_target, h->t));
     double *out = y_out ? y_out : h->scratch;
-    int st = h->method->backend->advance(h, t_target, out);
-    return st < 0 ? fail(h, st) : st;
+    int st = backend_advance(h, t_target, out);
+    return st != 0 ? fail(h, st) : st;
 }
 
 int fpl_integrator_transform_deviations(fpl_integrator *h, const double *m)
@@ -257,8 +281,8 @@ int fpl_integrator_sample(fpl_integrator *h, const double *t_samples, int n_samp
     const int n = fpl_lattice_size(h->lat);
     double *y = h->scratch;
     for (int i = 0; i < n_samples; i++) {
-        st = h->method->backend->advance(h, t_samples[i], y);
-        if (st < 0) return fail(h, st);
+        st = backend_advance(h, t_samples[i], y);
+        if (st != 0) return fail(h, st);
         double *ek = mode_energies ? mode_energies + (size_t)i * n : NULL;
         if (ek && (st = fpl_modes_energies(h->lat, y, ek)) != 0) return fail(h, st);
         double e = 0.0;
@@ -284,8 +308,8 @@ int fpl_integrator_run(fpl_integrator *h, const double *t_samples, int n_samples
     int st = check_samples(h, t_samples, n_samples);
     if (st) return fail(h, st);
     for (int i = 0; i < n_samples; i++) {
-        st = h->method->backend->advance(h, t_samples[i], h->scratch);
-        if (st < 0) return fail(h, st);
+        st = backend_advance(h, t_samples[i], h->scratch);
+        if (st != 0) return fail(h, st);
         if (n_done) *n_done = i + 1;
         if (callback(ctx, t_samples[i], h->scratch, h->n_dev)) return FPL_EVENT;
     }

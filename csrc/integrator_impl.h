@@ -39,6 +39,8 @@ struct fpl_integrator {
     fpl_integrator_options opt;
     long n_steps, n_force;
     void *data;                               /* back-end private */
+    int stopped;                              /* an event fired: h->y, h->t are the event */
+    int event_index;                          /* which criterion (lattice events) */
     char errmsg[FPL_ERRMSG_LEN];
 };
 

@@ -56,8 +56,14 @@ struct fpl_lattice {
     double *fft;    /* 2(N+1) scratch for the sine transform */
     void *fft_wavetable;
     void *fft_workspace;
+    double *ek;     /* N scratch: mode energies for event criteria */
+    fpl_event_set events;          /* stopping criteria (events.c) */
+    char event_desc[8][96];
     char errmsg[FPL_ERRMSG_LEN];
 };
+
+/* g_i(y) of the lattice's criteria, no validation (events.c). */
+void fpl_events_eval(fpl_lattice *lat, const double *y, double *g);
 
 const fpl_model_ops *fpl_model_ops_for(int model);
 

@@ -71,8 +71,9 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
     lat->kappa = xcalloc(nn + 1);
     lat->dphi = xcalloc(nn + 1);
     lat->fft = xcalloc(2 * (nn + 1));
+    lat->ek = xcalloc(nn);
     if (!lat->v || !lat->cl || !lat->cn || !lat->s || !lat->minv || !lat->phi || !lat->kappa ||
-        !lat->dphi || !lat->fft || fpl_modes_alloc(lat) != 0) {
+        !lat->dphi || !lat->fft || !lat->ek || fpl_modes_alloc(lat) != 0) {
         fpl_lattice_free(&lat);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating a lattice of N = %d", n);
     }
@@ -103,6 +104,7 @@ void fpl_lattice_free(fpl_lattice **lattice)
     free(lat->kappa);
     free(lat->dphi);
     free(lat->fft);
+    free(lat->ek);
     free(lat);
     *lattice = NULL;
 }

@@ -9,4 +9,5 @@
 #include "fputlab/splitting.h"
 #include "fputlab/integrator.h"
 #include "fputlab/chaos.h"
+#include "fputlab/events.h"
 #endif

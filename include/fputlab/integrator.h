@@ -54,7 +54,8 @@ FPL_API int fpl_integrator_n_dev(const fpl_integrator *integrator);
 /* Integrate to t_target (>= the current time) and write the state there into y_out (length
  * 2N(1+n_dev); may be NULL). FPL_ERR_NONFINITE if the state became NaN/Inf (the message says
  * between which times; the internal state is then the last finite one); FPL_ERR_BACKEND with
- * the SUNDIALS/GSL flag and message if the back end failed. */
+ * the SUNDIALS/GSL flag and message if the back end failed; FPL_EVENT if a stopping criterion
+ * fired first (y_out is then the state at the event). */
 FPL_API int fpl_integrator_advance(fpl_integrator *integrator, double t_target, double *y_out);
 
 /* Time of the internal state (for fixed-step methods the last grid point reached). */
@@ -65,6 +66,12 @@ FPL_API int fpl_integrator_get_state(const fpl_integrator *integrator, double *y
 /* Replace the deviation vectors w_i by sum_j m[i*n_dev + j] w_j (a linear map, which commutes
  * with the linear tangent dynamics: used for renormalisation and Gram-Schmidt). */
 FPL_API int fpl_integrator_transform_deviations(fpl_integrator *integrator, const double *m);
+
+/* Events (fputlab/events.h, attached to the lattice): when a criterion fires, advance/sample/run
+ * return FPL_EVENT and stop there; the internal state and time are those of the event, and any
+ * later advance is refused. fpl_integrator_event returns 1 (and the criterion index and time)
+ * if an event stopped the integrator, else 0. */
+FPL_API int fpl_integrator_event(const fpl_integrator *integrator, int *index, double *t);
 
 /* Steps taken and right-hand-side (force) evaluations so far. */
 FPL_API int fpl_integrator_counters(const fpl_integrator *integrator, long *steps,

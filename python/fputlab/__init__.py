@@ -8,7 +8,7 @@
 from ._errors import FputlabError, IntegrationError
 from ._native import ffi as _ffi, lib as _lib
 from .integrate import Integrator, Run, integrate, iter_samples, method_info, methods
-from . import chaos
+from . import analysis, blowup, chaos
 from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
 from .modes import mode_matrix, omega
 

@@ -106,6 +106,7 @@ class Integrator:
         done = ffi.new("int *")
         nul = lambda a: ptr(a) if a is not None and S else ffi.NULL
         status = lib.fpl_integrator_sample(self._h, nul(ts), S, nul(st), nul(ek), nul(en), done)
+        self.last_status = status
         k = done[0]
         cut = lambda a: None if a is None else a[:k]
         try:
@@ -114,6 +115,15 @@ class Integrator:
             err.partial = (k, cut(st), cut(ek), cut(en))
             raise
         return k, st, ek, en
+
+    @property
+    def event(self) -> dict | None:
+        """{'time', 'criterion', 'index'} if a stopping criterion stopped the integrator."""
+        index, t = ffi.new("int *"), ffi.new("double *")
+        if not lib.fpl_integrator_event(self._h, index, t):
+            return None
+        return {"time": t[0], "index": index[0], "criterion": ffi.string(
+            lib.fpl_lattice_event_describe(self.lattice._h, index[0])).decode()}
 
 
 @dataclass
@@ -131,6 +141,8 @@ class Run:
     message: str = ""
     y0: np.ndarray = field(default=None, repr=False)
     counters: dict = field(default_factory=dict)
+    event: dict | None = None       # set when a stopping criterion ended the run
+    final_state: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def relative_energy_error(self) -> np.ndarray:
@@ -159,13 +171,16 @@ def _sample_times(t0, t_end, sample_every, times):
 def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
               rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
               times=None, y0=None, deviations=None, t0: float = 0.0, store_states: bool = False,
-              chunk: int = 4096, on_failure: str = "raise") -> Run:
+              stop_on=None, chunk: int = 4096, on_failure: str = "raise") -> Run:
     """Integrate `lattice` from `y0` (default: the paper's mode-1 state, Eq. initxi) to `t_end`,
     sampling at `times` or every `sample_every` (default: 1000 intervals).
 
     method: a fixed-step splitting scheme (dt, default 0.01) or an adaptive method (rtol, atol);
     see fputlab.methods(). deviations: initial deviation vectors, shape (k, 2N), carried with
     the tangent map / variational equations (then store_states=True to get them back).
+    stop_on: stopping criteria, e.g. [("stretch", 4.0), ("energy", 1.0)] (see fputlab.blowup):
+    the run ends at the first crossing, located by root-finding, with `run.event` set and the
+    state there in `run.final_state`.
     If the state becomes NaN/Inf (blow-up), on_failure="raise" raises IntegrationError whose
     `.result` holds the finite samples before it; "return" returns them with completed=False."""
     if not isinstance(lattice, Lattice):
@@ -189,6 +204,19 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         state0 = np.concatenate([orbit[None, :], dev])
     else:
         state0 = orbit[None, :]
+    from .blowup import set_criteria
+    set_criteria(lattice, stop_on)
+    try:
+        return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
+                          chunk, on_failure)
+    finally:
+        if stop_on:
+            set_criteria(lattice, None)
+
+
+def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
+               on_failure):
+    N = lattice.N
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
     parts = {"t": [], "ek": [], "en": [], "st": []}
     message, completed = "", True
@@ -204,7 +232,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         parts["en"].append(en[:k])
         if store_states:
             parts["st"].append(st[:k])
-        if not completed:
+        if not completed or integ.last_status == lib.FPL_EVENT:
             break
     cat = lambda xs, shape: np.concatenate(xs) if xs else np.empty(shape)
     states = cat(parts["st"], (0, 1 + integ.n_dev, 2 * N)) if store_states else None
@@ -213,7 +241,8 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     run = Run(t=cat(parts["t"], (0,)), mode_energies=cat(parts["ek"], (0, N)),
               energy=cat(parts["en"], (0,)), states=states, lattice=lattice, method=method,
               dt=dt if dt is not None else float("nan"), completed=completed, message=message,
-              y0=orbit.copy(), counters=integ.counters)
+              y0=orbit.copy(), counters=integ.counters, event=integ.event,
+              final_state=integ.state if integ.n_dev else integ.state[0])
     if not completed and on_failure == "raise":
         err = IntegrationError(message, lib.FPL_ERR_NONFINITE, run)
         raise err

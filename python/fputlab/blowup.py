@@ -1,0 +1,128 @@
+"""Finite-time blow-up: stopping criteria found by root-finding, blow-up times, and sweeps of the
+blow-up probability over disorder realisations (paper Sec. 3, Fig. 3 and Sec. 4)."""
+from __future__ import annotations
+
+import math
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._arrays import as_float_array
+from ._errors import check
+from ._native import ffi, lib
+from .integrate import Integrator, method_info
+from .lattice import Lattice, _real
+
+#: criterion names -> C kinds
+CRITERIA = {
+    "energy": lib.FPL_EVENT_ENERGY,
+    "displacement": lib.FPL_EVENT_MAX_DISPLACEMENT,
+    "stretch": lib.FPL_EVENT_MAX_STRETCH,
+    "mode_energy": lib.FPL_EVENT_MODE_ENERGY,
+}
+
+
+def default_criteria(lattice: Lattice) -> list[tuple]:
+    """The cubic potential's barrier: a bond stretched beyond 1/alpha has escaped (V'(s) = 0 at
+    s = -1/alpha); without alpha, |x_j| > 100."""
+    if lattice.alpha > 0:
+        return [("stretch", 1.0 / lattice.alpha)]
+    return [("displacement", 100.0)]
+
+
+def set_criteria(lattice: Lattice, criteria) -> None:
+    """Attach criteria [(name, threshold) or (\"mode_energy\", threshold, k)] to the lattice
+    (None or [] removes them)."""
+    ev = ffi.new("fpl_event_set *")
+    criteria = list(criteria or [])
+    if len(criteria) > 8:
+        raise ValueError(f"criteria: at most 8 (got {len(criteria)})")
+    for i, c in enumerate(criteria):
+        if not isinstance(c, (tuple, list)) or len(c) not in (2, 3):
+            raise TypeError(f"criteria[{i}] must be (name, threshold) or ('mode_energy', threshold, k)")
+        name = c[0]
+        if name not in CRITERIA:
+            raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
+        ev.kind[i] = CRITERIA[name]
+        ev.threshold[i] = _real(c[1], f"criteria[{i}] threshold")
+        ev.mode[i] = int(c[2]) if len(c) == 3 else 0
+    ev.n = len(criteria)
+    lattice._check(lib.fpl_lattice_set_events(lattice._h, ev))
+
+
+@dataclass
+class Blowup:
+    """Outcome of one run with stopping criteria."""
+    blew_up: bool
+    time: float                 # event time (NaN if no event)
+    criterion: str              # which criterion fired ("" if none)
+    t_reached: float            # time reached (the event time, or t_max)
+    state: np.ndarray           # last finite state (the state at the event)
+    method: str
+    message: str = ""
+    params: dict = field(default_factory=dict)
+
+
+def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt: float | None = None,
+                rtol: float = 1e-10, atol: float = 1e-12, y0=None, criteria=None) -> Blowup:
+    """Integrate until a criterion fires (default: a bond stretched beyond the barrier 1/alpha) or
+    t_max. A NaN/Inf state without an event is an integration failure, reported as such."""
+    t_max = _real(t_max, "t_max")
+    if not (math.isfinite(t_max) and t_max > 0):
+        raise ValueError(f"t_max must be finite and > 0 (got {t_max:g})")
+    crit = default_criteria(lattice) if criteria is None else criteria
+    y = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * lattice.N,))
+    if dt is None and not method_info(method)["adaptive"]:
+        dt = 0.01
+    set_criteria(lattice, crit)
+    try:
+        integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol)
+        status = lib.fpl_integrator_advance(integ._h, t_max, ffi.NULL)
+        index, t_ev = ffi.new("int *"), ffi.new("double *")
+        fired = lib.fpl_integrator_event(integ._h, index, t_ev)
+        message = ffi.string(lib.fpl_integrator_errmsg(integ._h)).decode()
+        if status < 0:
+            check(status)           # a failure without an event is not a blow-up: raise
+        state = integ.state[0]
+        params = {"N": lattice.N, "model": lattice.model, "tau": lattice.tau, "seed": lattice.seed}
+        if fired:
+            return Blowup(True, t_ev[0], ffi.string(
+                lib.fpl_lattice_event_describe(lattice._h, index[0])).decode(), t_ev[0], state,
+                method, message, params)
+        return Blowup(False, float("nan"), "", t_max, state, method, "", params)
+    finally:
+        set_criteria(lattice, None)
+
+
+def _one(args):
+    N, tau, seed, model, alpha, t_max, method, kwargs = args
+    lat = Lattice(N, alpha, model, tau=tau, seed=seed)
+    res = blowup_time(lat, t_max, method=method, **kwargs)
+    return tau, N, seed, res.blew_up, res.time
+
+
+def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
+                 model: str = "nonlinear", alpha: float = 0.25, method: str = "yoshida4",
+                 first_seed: int = 1, workers: int | None = None, progress: bool = False,
+                 **kwargs) -> dict:
+    """Probability of blow-up before t_max versus tau (and N) over `realisations` disorder draws
+    (seeds first_seed..), run in parallel processes. Returns a dict with arrays `tau`, `N`,
+    `probability` (len(taus) x len(Ns)) and the per-realisation `records`
+    (tau, N, seed, blew_up, time)."""
+    taus, Ns = [float(t) for t in taus], [int(n) for n in Ns]
+    tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
+             for tau in taus for N in Ns for r in range(realisations)]
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        it = pool.map(_one, tasks)
+        if progress:
+            from tqdm import tqdm
+            it = tqdm(it, total=len(tasks), desc="blow-up sweep", disable=None)
+        records = list(it)
+    prob = np.zeros((len(taus), len(Ns)))
+    for i, tau in enumerate(taus):
+        for j, N in enumerate(Ns):
+            hits = [r[3] for r in records if r[0] == tau and r[1] == N]
+            prob[i, j] = np.mean(hits)
+    return {"tau": np.array(taus), "N": np.array(Ns), "probability": prob, "records": records,
+            "t_max": t_max, "realisations": realisations}
