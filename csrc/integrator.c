@@ -231,6 +231,33 @@ int fpl_integrator_advance(fpl_integrator *h, double t_target, double *y_out)
     return st != 0 ? fail(h, st) : st;
 }
 
+long fpl_integrator_steps(const fpl_integrator *h) { return h ? h->n_steps : -1; }
+
+int fpl_integrator_restore(fpl_integrator *h, long n_steps, double t, const double *y)
+{
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    h->errmsg[0] = '\0';
+    if (!y) return fail(h, fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer"));
+    if (n_steps < 0)
+        return fail(h, fpl_error(NULL, FPL_ERR_ARG, "n_steps must be >= 0 (got %ld)", n_steps));
+    if (!isfinite(t) || t < h->t0)
+        return fail(h, fpl_error(NULL, FPL_ERR_ARG, "t = %.17g must be finite and >= t0 = %.17g",
+                                 t, h->t0));
+    if (!h->method->backend->adaptive && t != h->t0 + (double)n_steps * h->opt.dt)
+        return fail(h, fpl_error(NULL, FPL_ERR_ARG,
+                                 "t = %.17g is not t0 + n_steps dt = %.17g (checkpoint of another "
+                                 "run or step?)", t, h->t0 + (double)n_steps * h->opt.dt));
+    long bad;
+    if (!fpl_is_finite_array(y, h->dim, &bad))
+        return fail(h, fpl_error(NULL, FPL_ERR_ARG, "y[%ld] is not finite", bad));
+    memcpy(h->y, y, sizeof(double) * (size_t)h->dim);
+    h->n_steps = n_steps;
+    h->t = t;
+    h->stopped = 0;
+    int st = h->method->backend->reset ? h->method->backend->reset(h) : FPL_OK;
+    return st < 0 ? fail(h, st) : st;
+}
+
 int fpl_integrator_transform_deviations(fpl_integrator *h, const double *m)
 {
     if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");

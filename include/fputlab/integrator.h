@@ -63,6 +63,15 @@ FPL_API double fpl_integrator_time(const fpl_integrator *integrator);
 /* Copy the internal state (length 2N(1+n_dev)). */
 FPL_API int fpl_integrator_get_state(const fpl_integrator *integrator, double *y);
 
+/* Restart from a checkpoint: put the integrator (created with the original t0 and options) at
+ * step count n_steps, time t and state y (length 2N(1+n_dev)). For fixed-step methods t must be
+ * t0 + n_steps dt (as fpl_integrator_time reported it), which makes the continuation bit-for-bit
+ * identical to an uninterrupted run; adaptive methods restart their step-size control at t. */
+FPL_API int fpl_integrator_restore(fpl_integrator *integrator, long n_steps, double t,
+                                   const double *y);
+/* Internal step count (with fpl_integrator_time and the state: what a checkpoint must keep). */
+FPL_API long fpl_integrator_steps(const fpl_integrator *integrator);
+
 /* Replace the deviation vectors w_i by sum_j m[i*n_dev + j] w_j (a linear map, which commutes
  * with the linear tangent dynamics: used for renormalisation and Gram-Schmidt). */
 FPL_API int fpl_integrator_transform_deviations(fpl_integrator *integrator, const double *m);

@@ -80,6 +80,17 @@ class Integrator:
         lib.fpl_integrator_counters(self._h, s, f)
         return {"steps": s[0], "force_evals": f[0]}
 
+    @property
+    def steps(self) -> int:
+        """Internal step count (a checkpoint keeps it with `t` and `state`)."""
+        return int(lib.fpl_integrator_steps(self._h))
+
+    def restore(self, steps: int, t: float, state) -> None:
+        """Continue from a checkpoint (steps, t, state) of an integrator made with the same
+        lattice, method, options and t0: bit-for-bit for fixed-step methods."""
+        y = as_float_array(state, "state", self._shape)
+        self._check(lib.fpl_integrator_restore(self._h, _int(steps, "steps"), _real(t, "t"), ptr(y)))
+
     def advance(self, t: float) -> np.ndarray:
         """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
         y = np.empty(self._shape)

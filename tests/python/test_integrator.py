@@ -83,3 +83,18 @@ def test_integrator_bad_input():
         integ.transform_deviations(np.eye(2))
     with pytest.raises(ValueError, match="deviations has shape"):
         lat.integrate(1.0, deviations=np.zeros((2, 5)))
+
+
+def test_restore_from_checkpoint_is_bit_for_bit():
+    lat = Lattice(16, 0.25, "nonlinear", tau=10, seed=2)
+    W = np.random.default_rng(1).standard_normal((2, 32))
+    full = Integrator(lat, np.vstack([lat.mode_state(), W]), dt=0.01)
+    ref = full.advance(123.456)
+    first = Integrator(lat, np.vstack([lat.mode_state(), W]), dt=0.01)
+    first.advance(50.005)                        # stops on the grid at t = 50.0
+    steps, t, state = first.steps, first.t, first.state
+    second = Integrator(lat, np.vstack([lat.mode_state(), W]), dt=0.01)
+    second.restore(steps, t, state)
+    np.testing.assert_array_equal(second.advance(123.456), ref)
+    with pytest.raises(ValueError, match="t0 \\+ n_steps dt"):
+        second.restore(steps, t + 0.001, state)
