@@ -35,6 +35,12 @@ FPL_API int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, v
 FPL_API int fpl_sun_band_widths(const fpl_lattice *lattice, int n_dev, sunindextype *upper,
                                 sunindextype *lower);
 
+/* Root function (ARKRootFn / CVRootFn) of the stopping criteria attached with
+ * fpl_lattice_set_events (fputlab/events.h): nrtfn = fpl_lattice_event_count(lattice); each g_i
+ * decreases through zero when criterion i fires (use root direction -1). A non-finite state
+ * gives g_i = -DBL_MAX, i.e. every criterion fired. */
+FPL_API int fpl_sun_roots(sunrealtype t, N_Vector y, sunrealtype *gout, void *user_data);
+
 /* Jacobian-times-vector (ARKLsJacTimesVecFn / CVLsJacTimesVecFn) for matrix-free Krylov solvers. */
 FPL_API int fpl_sun_jtimes(N_Vector v, N_Vector jv, sunrealtype t, N_Vector y, N_Vector fy,
                            void *user_data, N_Vector tmp);
