@@ -105,20 +105,7 @@ struct jtimes_ctx { const double *v; double *jv; };
 
 static void emit_jtimes(void *ctx, long row, long col, double value)
 {
-    int fpl_sun_roots(sunrealtype t, N_Vector y, sunrealtype *gout, void *user_data)
-{
-    (void)t;
-    fpl_lattice *lat = user_data;
-    const double *yd = N_VGetArrayPointer(y);
-    if (!fpl_is_finite_array(yd, 2L * lat->n, NULL)) {
-        for (int i = 0; i < lat->events.n; i++) gout[i] = -DBL_MAX;
-        return 0;
-    }
-    fpl_events_eval(lat, yd, gout);
-    return 0;
-}
-
-struct jtimes_ctx *c = ctx;
+    struct jtimes_ctx *c = ctx;
     c->jv[row] += value * c->v[col];
 }
 
@@ -130,20 +117,7 @@ int fpl_sun_jtimes(N_Vector v, N_Vector jv, sunrealtype t, N_Vector y, N_Vector 
     int n_dev = n_dev_of(lat, y);
     if (n_dev < 0) return -1;
     N_VConst(0.0, jv);
-    int fpl_sun_roots(sunrealtype t, N_Vector y, sunrealtype *gout, void *user_data)
-{
-    (void)t;
-    fpl_lattice *lat = user_data;
-    const double *yd = N_VGetArrayPointer(y);
-    if (!fpl_is_finite_array(yd, 2L * lat->n, NULL)) {
-        for (int i = 0; i < lat->events.n; i++) gout[i] = -DBL_MAX;
-        return 0;
-    }
-    fpl_events_eval(lat, yd, gout);
-    return 0;
-}
-
-struct jtimes_ctx c = {N_VGetArrayPointer(v), N_VGetArrayPointer(jv)};
+    struct jtimes_ctx c = {N_VGetArrayPointer(v), N_VGetArrayPointer(jv)};
     fpl_kernel_jacobian_entries(lat, N_VGetArrayPointer(y), n_dev, emit_jtimes, &c);
     return 0;
 }
