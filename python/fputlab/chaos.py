@@ -36,10 +36,13 @@ class ChaosResult:
         return float(self.mle[-1]) if self.mle.size else float("nan")
 
     def classify(self, sali_threshold: float = 1e-8) -> str:
-        """'chaotic' if SALI fell below the threshold; otherwise 'regular' when lambda(t) keeps
-        following the 1/t law (lambda t bounded over the last decade), else 'undecided'."""
+        """'chaotic' if SALI fell below the threshold; 'blow-up' if the orbit blew up first;
+        otherwise 'regular' when lambda(t) keeps following the 1/t law (lambda t bounded over the
+        last decade), else 'undecided'."""
         if self.chaotic or (self.sali.size and np.nanmin(self.sali) < sali_threshold):
             return "chaotic"
+        if not self.completed:
+            return "blow-up"
         if self.t.size < 3:
             return "undecided"
         late = self.t >= self.t[-1] / 10
@@ -130,7 +133,8 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
         for N, seed, res in it:
             results[N].append(res)
     percent = [100.0 * np.mean([r.classify() == "chaotic" for r in results[int(N)]]) for N in Ns]
-    return {"N": [int(N) for N in Ns], "percent": percent, "results": results}
+    blowups = [int(sum(r.classify() == "blow-up" for r in results[int(N)])) for N in Ns]
+    return {"N": [int(N) for N in Ns], "percent": percent, "blowups": blowups, "results": results}
 
 
 def sali(w1, w2) -> float:

@@ -132,7 +132,9 @@ def _fig14_from(out, out_dir, t_end):
     ax.set_xscale("log", base=2)
     ax.set_xlabel("$N$")
     ax.set_ylabel("chaotic orbits (%)")
-    ax.set_title(f"τ = 10%, {len(next(iter(out['results'].values())))} realisations, t = {t_end:g}")
+    R = len(next(iter(out["results"].values())))
+    blown = ", ".join(f"N={N}: {b}" for N, b in zip(out["N"], out["blowups"]) if b)
+    ax.set_title(f"τ = 10%, {R} realisations, t = {t_end:g}" + (f"\nblew up first: {blown}" if blown else ""))
     return _save(fig, out_dir, "fig14_chaotic_fraction.png")
 
 
