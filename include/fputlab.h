@@ -10,4 +10,5 @@
 #include "fputlab/integrator.h"
 #include "fputlab/chaos.h"
 #include "fputlab/events.h"
+#include "fputlab/reduction.h"
 #endif

@@ -11,6 +11,7 @@ from .integrate import Integrator, Run, integrate, iter_samples, method_info, me
 from . import analysis, blowup, chaos
 from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
 from .modes import mode_matrix, omega
+from . import reduction
 
 __version__ = _ffi.string(_lib.fpl_version()).decode()
 
