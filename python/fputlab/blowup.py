@@ -95,11 +95,18 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
         set_criteria(lattice, None)
 
 
+def realisation_tau_c(N: int, seed: int, alpha: float = 0.25, disorder: str = "gaussian") -> float:
+    """The realisation's own two-mode threshold: the smallest tau > 0 where its B~(tau) = 0
+    (same standard draws z for every tau; NaN if B~ never vanishes)."""
+    from .reduction import realisation_quadratics
+    return float(realisation_quadratics(N, alpha, R=1, seed0=seed, kind=disorder).critical_tolerances()[0])
+
+
 def _one(args):
     N, tau, seed, model, alpha, t_max, method, kwargs = args
     lat = Lattice(N, alpha, model, tau=tau, seed=seed)
     res = blowup_time(lat, t_max, method=method, **kwargs)
-    return tau, N, seed, res.blew_up, res.time
+    return tau, N, seed, res.blew_up, res.time, realisation_tau_c(N, seed, alpha)
 
 
 def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
@@ -108,8 +115,10 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
                  **kwargs) -> dict:
     """Probability of blow-up before t_max versus tau (and N) over `realisations` disorder draws
     (seeds first_seed..), run in parallel processes. Returns a dict with arrays `tau`, `N`,
-    `probability` (len(taus) x len(Ns)) and the per-realisation `records`
-    (tau, N, seed, blew_up, time)."""
+    `probability` (len(taus) x len(Ns)), the per-realisation `records`
+    (tau, N, seed, blew_up, time, tau_c) where tau_c is the realisation's own two-mode threshold
+    (B~ < 0 above it), and `prediction_accuracy`: the share of runs where "tau > tau_c" agrees
+    with "blew up before t_max"."""
     taus, Ns = [float(t) for t in taus], [int(n) for n in Ns]
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]
@@ -124,5 +133,7 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
         for j, N in enumerate(Ns):
             hits = [r[3] for r in records if r[0] == tau and r[1] == N]
             prob[i, j] = np.mean(hits)
+    agree = [(r[0] > r[5]) == r[3] for r in records if np.isfinite(r[5])]
     return {"tau": np.array(taus), "N": np.array(Ns), "probability": prob, "records": records,
-            "t_max": t_max, "realisations": realisations}
+            "t_max": t_max, "realisations": realisations,
+            "prediction_accuracy": float(np.mean(agree)) if agree else float("nan")}

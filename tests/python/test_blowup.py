@@ -61,6 +61,11 @@ def test_blowup_sweep_counts_realisations():
     assert out["probability"].shape == (2, 1)
     assert out["probability"][0, 0] == 0.0
     assert len(out["records"]) == 6
+    # each realisation carries its own two-mode threshold, checked against the reduction module
+    from fputlab.reduction import realisation_quadratics
+    for tau, N, seed, blew, t, tau_c in out["records"]:
+        assert tau_c == pytest.approx(realisation_quadratics(32, 0.25, R=1, seed0=seed).critical_tolerances()[0])
+    assert 0.0 <= out["prediction_accuracy"] <= 1.0
 
 
 def test_bad_criteria():
