@@ -79,9 +79,10 @@ def cmd_blowup(a):
                            model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
                            workers=a.workers, progress=True)
         summary = {"tau": out["tau"].tolist(), "probability": out["probability"][:, 0].tolist(),
-                   "realisations": a.realisations, "t_max": a.t_max}
+                   "realisations": a.realisations, "t_max": a.t_max,
+                   "two_mode_prediction_accuracy": out["prediction_accuracy"]}
         if a.out:
-            rec = np.array([(r[0], r[1], r[2], r[3], r[4]) for r in out["records"]], dtype=float)
+            rec = np.array([r[:6] for r in out["records"]], dtype=float)
             _write_h5(a.out, {"t_max": a.t_max, "model": a.model, "N": a.N},
                       {"tau": out["tau"], "probability": out["probability"], "records": rec})
         _emit(summary, a.json)
