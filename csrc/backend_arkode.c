@@ -125,6 +125,17 @@ static int ark_init(fpl_integrator *h)
         return setup_failed(h, "ERKStepSetMaxNumSteps", flag);
     if (h->opt.dt > 0.0 && (flag = ERKStepSetInitStep(d->mem, h->opt.dt)) != ARK_SUCCESS)
         return setup_failed(h, "ERKStepSetInitStep", flag);
+    /* Stopping criteria on the lattice: ARKODE's root-finding, g_i decreasing through zero. */
+    const int n_events = fpl_lattice_event_count(h->lat);
+    if (n_events > 0) {
+        int dirs[8];
+        for (int i = 0; i < n_events; i++) dirs[i] = -1;
+        if ((flag = ERKStepRootInit(d->mem, n_events, fpl_sun_roots)) != ARK_SUCCESS)
+            return setup_failed(h, "ERKStepRootInit", flag);
+        if ((flag = ERKStepSetRootDirection(d->mem, dirs)) != ARK_SUCCESS)
+            return setup_failed(h, "ERKStepSetRootDirection", flag);
+        ERKStepSetNoInactiveRootWarn(d->mem);
+    }
     return FPL_OK;
 }
 
@@ -167,6 +178,17 @@ static int ark_advance(fpl_integrator *h, double t_target, double *y_out)
     h->n_force = d->base_rhs + nfe;
     const double *yv = N_VGetArrayPointer(d->y);
     const int finite = fpl_is_finite_array(yv, h->dim, NULL);
+    if (flag == ARK_ROOT_RETURN && finite) {
+        int found[8] = {0};
+        ERKStepGetRootInfo(d->mem, found);
+        h->event_index = 0;
+        for (int i = fpl_lattice_event_count(h->lat) - 1; i >= 0; i--)
+            if (found[i]) h->event_index = i;
+        memcpy(h->y, yv, bytes);
+        h->t = tret;
+        memcpy(y_out, yv, bytes);
+        return FPL_EVENT;
+    }
     if (flag >= 0 && finite) {
         memcpy(h->y, yv, bytes);
         h->t = t_target;

@@ -116,6 +116,17 @@ static int cv_init(fpl_integrator *h)
         if ((flag = CVodeSetJacFn(d->mem, fpl_sun_jac)) != CV_SUCCESS)
             return setup_failed(h, "CVodeSetJacFn", flag);
     }
+    /* Stopping criteria on the lattice: CVODE's root-finding, g_i decreasing through zero. */
+    const int n_events = fpl_lattice_event_count(h->lat);
+    if (n_events > 0) {
+        int dirs[8];
+        for (int i = 0; i < n_events; i++) dirs[i] = -1;
+        if ((flag = CVodeRootInit(d->mem, n_events, fpl_sun_roots)) != CV_SUCCESS)
+            return setup_failed(h, "CVodeRootInit", flag);
+        if ((flag = CVodeSetRootDirection(d->mem, dirs)) != CV_SUCCESS)
+            return setup_failed(h, "CVodeSetRootDirection", flag);
+        CVodeSetNoInactiveRootWarn(d->mem);
+    }
     return FPL_OK;
 }
 
@@ -159,6 +170,17 @@ static int cv_advance(fpl_integrator *h, double t_target, double *y_out)
     h->n_force = d->base_rhs + nfe;
     const double *yv = N_VGetArrayPointer(d->y);
     const int finite = fpl_is_finite_array(yv, h->dim, NULL);
+    if (flag == CV_ROOT_RETURN && finite) {
+        int found[8] = {0};
+        CVodeGetRootInfo(d->mem, found);
+        h->event_index = 0;
+        for (int i = fpl_lattice_event_count(h->lat) - 1; i >= 0; i--)
+            if (found[i]) h->event_index = i;
+        memcpy(h->y, yv, bytes);
+        h->t = tret;
+        memcpy(y_out, yv, bytes);
+        return FPL_EVENT;
+    }
     if (flag >= 0 && finite) {
         memcpy(h->y, yv, bytes);
         h->t = t_target;

@@ -69,6 +69,9 @@ static double initial_step(fpl_integrator *h, double *f)
 static int gsl_init(fpl_integrator *h)
 {
     gsl_set_error_handler_off(); /* never abort (also done by lattice creation) */
+    if (fpl_lattice_event_count(h->lat) > 0) /* silently ignoring them would be wrong */
+        return fpl_error(NULL, FPL_ERR_ARG, "method gsl-rk8pd does not support stopping criteria "
+                         "(events); use a splitting, ARKODE or CVODE method");
     gsl_data *d = calloc(1, sizeof *d);
     if (!d) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (GSL back end)");
     h->data = d; /* from here on, fpl_integrator_free calls gsl_release on failure */

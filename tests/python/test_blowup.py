@@ -25,12 +25,21 @@ def test_escape_time_of_two_particle_chain_matches_quadrature():
     assert lat.integrate(1.0, y0=y0).event is None
 
 
-def test_disorder_20_percent_blows_up():
-    # paper Fig. 3: tau = 20 % > tau_c, N = 64, model 3: finite-time blow-up
+def test_disorder_20_percent_blows_up_same_time_with_arkode_root_finding():
+    # paper Fig. 3: tau = 20 % > tau_c, N = 64, model 3: finite-time blow-up. The splitting
+    # scheme's in-step locator and ARKODE's root-finding (DOP853) must agree on the time.
     for seed in range(1, 11):
-        res = blowup.blowup_time(Lattice(64, 0.25, "nonlinear", tau=20.0, seed=seed), 1e4)
-        assert res.blew_up and res.time < 1e4, seed
-        assert np.all(np.isfinite(res.state))
+        lat = Lattice(64, 0.25, "nonlinear", tau=20.0, seed=seed)
+        split = blowup.blowup_time(lat, 1e4)
+        assert split.blew_up and split.time < 1e4, seed
+        assert np.all(np.isfinite(split.state))
+        ark = blowup.blowup_time(lat, 1e4, method="dop853", rtol=1e-10, atol=1e-12)
+        assert ark.blew_up and ark.criterion == split.criterion
+        assert abs(ark.time - split.time) < 1e-6 * ark.time, (seed, ark.time, split.time)
+    cv = blowup.blowup_time(lat, 1e4, method="cvode-adams", rtol=1e-10, atol=1e-12)
+    assert abs(cv.time - split.time) < 1e-6 * split.time
+    with pytest.raises(ValueError, match="gsl-rk8pd does not support"):
+        blowup.blowup_time(lat, 1e4, method="gsl-rk8pd")
 
 
 def test_no_event_without_disorder():
