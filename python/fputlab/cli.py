@@ -85,6 +85,10 @@ def cmd_blowup(a):
             rec = np.array([r[:6] for r in out["records"]], dtype=float)
             _write_h5(a.out, {"t_max": a.t_max, "model": a.model, "N": a.N},
                       {"tau": out["tau"], "probability": out["probability"], "records": rec})
+        if a.plot:
+            from .blowup import plot_sweep
+            plot_sweep(out, a.plot)
+            summary["plot"] = a.plot
         _emit(summary, a.json)
         return 0
     res = blowup_time(_lattice(a), a.t_max, method=a.method, dt=a.dt, rtol=a.rtol, atol=a.atol)
@@ -152,6 +156,7 @@ def build_parser():
     s.add_argument("--realisations", type=int, default=1)
     s.add_argument("--workers", type=int, default=None)
     s.add_argument("--out")
+    s.add_argument("--plot", help="PNG of the sweep: probability vs tau, blow-up times")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_blowup)
 

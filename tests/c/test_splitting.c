@@ -11,7 +11,7 @@ static const fpl_splitting *scheme(const char *name)
 }
 
 /* Paper Sec. 5: Yoshida 4 at dt = 0.01 keeps the relative energy error below 1e-9. */
-static void test_energy_conservation(int model, double tau, int coupled, double dt)
+static void test_energy_conservation(int model, double tau, int coupled, double dt, double T)
 {
     const int n = 64;
     double v[64], y[128], e0, e;
@@ -25,15 +25,16 @@ static void test_energy_conservation(int model, double tau, int coupled, double 
     CHECK_OK(fpl_lattice_energy(lat, y, &e0));
     double worst = 0.0;
     const long steps = (long)(100.0 / dt + 0.5);
-    for (int chunk = 0; chunk < 100; chunk++) { /* t = 1e4 in 100 checks */
+    const int chunks = (int)(T / 100.0 + 0.5);
+    for (int chunk = 0; chunk < chunks; chunk++) { /* checks every 100 time units */
         CHECK_OK(fpl_splitting_advance(scheme("yoshida4"), lat, y, 0, dt, steps));
         CHECK_OK(fpl_lattice_energy(lat, y, &e));
         if (fabs(e - e0) / e0 > worst) worst = fabs(e - e0) / e0;
     }
     CHECK(worst < 1e-9, "model %d tau %g dt %g: max relative energy error %g", model, tau, dt,
           worst);
-    printf("model %d tau %g %s dt %g: max relative energy error to t = 1e4: %.2e\n", model, tau,
-           coupled ? "v x = sin" : "x = sin", dt, worst);
+    printf("model %d tau %g %s dt %g: max relative energy error to t = %g: %.2e\n", model, tau,
+           coupled ? "v x = sin" : "x = sin", dt, T, worst);
     fpl_lattice_free(&lat);
 }
 
@@ -133,11 +134,12 @@ static void test_recurrence(void)
 
 int main(void)
 {
-    test_energy_conservation(FPL_MODEL_HOMOGENEOUS, 0.0, 0, 0.01);
+    /* the integrator issue asks for t = 1e5 (1e7 steps) */
+    test_energy_conservation(FPL_MODEL_HOMOGENEOUS, 0.0, 0, 0.01, 1e5);
     /* model 2: the mode shape in the coupling variables at the paper's dt; x = sin itself
      * carries much high-frequency energy (error ~3e-9 at dt = 0.01, falling as dt^4) */
-    test_energy_conservation(FPL_MODEL_HAMILTONIAN, 10.0, 1, 0.01);
-    test_energy_conservation(FPL_MODEL_HAMILTONIAN, 10.0, 0, 0.005);
+    test_energy_conservation(FPL_MODEL_HAMILTONIAN, 10.0, 1, 0.01, 1e5);
+    test_energy_conservation(FPL_MODEL_HAMILTONIAN, 10.0, 0, 0.005, 1e4);
     for (int model = 1; model <= 3; model++) {
         test_order("leapfrog", model, 2.0);
         test_order("yoshida4", model, 4.0);
