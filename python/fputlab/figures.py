@@ -153,14 +153,16 @@ def all_figures(out_dir="figures", full=False, only=None):
             paths.append(fn(out_dir, full))
     if want(12) or want(13) or want(14):
         paths += fig12_13(out_dir, full)
-    try:
-        from . import figures_reduction
-    except ImportError:           # the reduction module is optional at this point
-        figures_reduction = None
-    if figures_reduction is not None:
-        for k in range(4, 11):
-            fn = getattr(figures_reduction, f"fig{k}", None)
-            if fn is not None and want(k):
-                res = fn(out_dir, full) if "full" in fn.__code__.co_varnames else fn(out_dir)
-                paths += res if isinstance(res, list) else [res]
+    import inspect
+
+    from . import figures_reduction
+    for k in range(4, 11):
+        fn = getattr(figures_reduction, f"fig{k}")
+        if want(k):
+            # these take the PNG path (default file name) and quick=...
+            name = inspect.signature(fn).parameters["out"].default
+            path = os.path.join(out_dir, name)
+            os.makedirs(out_dir, exist_ok=True)
+            fn(path, quick=not full)
+            paths.append(path)
     return paths

@@ -35,5 +35,6 @@ def test_bad_input_is_reported_not_raised(capsys):
 
 
 def test_figures_quick(tmp_path):
-    assert main(["figures", "--out", str(tmp_path), "--only", "3"]) == 0
+    assert main(["figures", "--out", str(tmp_path), "--only", "3", "7"]) == 0
     assert (tmp_path / "fig03_blowup.png").stat().st_size > 10_000
+    assert (tmp_path / "fig07_bifurcation.png").stat().st_size > 10_000
