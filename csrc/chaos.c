@@ -116,11 +116,37 @@ static int check_options(const fpl_chaos_options *o, double t0)
     return FPL_OK;
 }
 
-int fpl_chaos_run(fpl_lattice *lattice, const char *method,
-                  const fpl_integrator_options *integrator_options, double t0, const double *y0,
-                  const double *w0, const fpl_chaos_options *opt, double *t_out, double *mle_out,
-                  double *sali_out, double *gali_out, fpl_chaos_result *result)
+struct fpl_chaos {
+    fpl_integrator *h;
+    fpl_chaos_options opt;
+    double t0, T, t_first;
+    long len, n_renorm;
+    long m;               /* renormalisations done */
+    double logsum;        /* sum of ln ||w_1|| over them */
+    int next;             /* next log-spaced sample index */
+    int done;             /* t_end reached, or stopped chaotic */
+    fpl_chaos_result res;
+    double *y, *q, *scale;
+};
+
+void fpl_chaos_free(fpl_chaos **cp)
 {
+    if (!cp || !*cp) return;
+    fpl_chaos *c = *cp;
+    fpl_integrator_free(&c->h);
+    free(c->y);
+    free(c->q);
+    free(c->scale);
+    free(c);
+    *cp = NULL;
+}
+
+int fpl_chaos_create(fpl_lattice *lattice, const char *method,
+                     const fpl_integrator_options *integrator_options, double t0, const double *y0,
+                     const double *w0, const fpl_chaos_options *opt, fpl_chaos **out)
+{
+    if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
+    *out = NULL;
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
     if (!opt) return fpl_error(NULL, FPL_ERR_ARG, "opt: NULL options");
     if (!y0) return fpl_error(NULL, FPL_ERR_ARG, "y0: NULL pointer");
@@ -132,20 +158,22 @@ int fpl_chaos_run(fpl_lattice *lattice, const char *method,
     if (k > len)
         return fpl_error(NULL, FPL_ERR_ARG, "n_dev = %d exceeds the phase-space dimension 2N = %ld",
                          k, len);
-
-    double *y = malloc(sizeof(double) * (size_t)dim);
-    double *q = malloc(sizeof(double) * (size_t)(len * k));
-    double *scale = calloc((size_t)k * (size_t)k, sizeof(double));
-    if (!y || !q || !scale) {
-        free(y); free(q); free(scale);
+    fpl_chaos *c = calloc(1, sizeof *c);
+    if (!c) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (chaos)");
+    c->y = malloc(sizeof(double) * (size_t)dim);
+    c->q = malloc(sizeof(double) * (size_t)(len * k));
+    c->scale = calloc((size_t)k * (size_t)k, sizeof(double));
+    if (!c->y || !c->q || !c->scale) {
+        fpl_chaos_free(&c);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (chaos run, N = %d)", lattice->n);
     }
+    double *y = c->y;
     memcpy(y, y0, sizeof(double) * (size_t)len);
     if (w0) {
         memcpy(y + len, w0, sizeof(double) * (size_t)(len * k));
     } else {
         gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-        if (!rng) { free(y); free(q); free(scale); return fpl_error(NULL, FPL_ERR_NOMEM, "RNG"); }
+        if (!rng) { fpl_chaos_free(&c); return fpl_error(NULL, FPL_ERR_NOMEM, "RNG"); }
         gsl_rng_set(rng, opt->seed);
         for (long i = 0; i < len * k; i++) y[len + i] = gsl_ran_gaussian(rng, 1.0);
         gsl_rng_free(rng);
@@ -154,25 +182,58 @@ int fpl_chaos_run(fpl_lattice *lattice, const char *method,
     for (int i = 0; i < k; i++) {
         double *w = y + len * (i + 1), n = norm2(w, len);
         if (!(n > 0.0) || !isfinite(n)) {
-            free(y); free(q); free(scale);
+            fpl_chaos_free(&c);
             return fpl_error(NULL, FPL_ERR_ARG, "deviation vector w0[%d] must be finite and non-zero", i);
         }
-        for (long c = 0; c < len; c++) w[c] /= n;
+        for (long col = 0; col < len; col++) w[col] /= n;
     }
+    st = fpl_integrator_create(lattice, method, k, integrator_options, t0, y, &c->h);
+    if (st) { fpl_chaos_free(&c); return st; }
+    c->opt = *opt;
+    c->t0 = t0;
+    c->len = len;
+    c->T = opt->t_end - t0;
+    c->t_first = opt->t_first_sample > 0.0 ? opt->t_first_sample : fmin(opt->renorm_interval, c->T);
+    c->n_renorm = (long)ceil(c->T / opt->renorm_interval - 1e-9);
+    c->res = (fpl_chaos_result){0, t0, NAN, NAN, NAN, 0, NAN, 0};
+    *out = c;
+    return FPL_OK;
+}
 
-    fpl_integrator *h = NULL;
-    st = fpl_integrator_create(lattice, method, k, integrator_options, t0, y, &h);
-    if (st) { free(y); free(q); free(scale); return st; }
+fpl_integrator *fpl_chaos_integrator(fpl_chaos *c) { return c ? c->h : NULL; }
 
-    const double T = opt->t_end - t0, tau = opt->renorm_interval;
-    const double t_first = opt->t_first_sample > 0.0 ? opt->t_first_sample : fmin(tau, T);
-    const long n_renorm = (long)ceil(T / tau - 1e-9);
-    fpl_chaos_result res = {0, t0, NAN, NAN, NAN, 0, NAN, 0};
-    double logsum = 0.0;
-    int next = 0; /* next log-spaced sample index */
-    for (long m = 1; m <= n_renorm && st == FPL_OK; m++) {
-        double t = m == n_renorm ? opt->t_end : t0 + (double)m * tau;
-        st = fpl_integrator_advance(h, t, y);
+int fpl_chaos_done(const fpl_chaos *c) { return c ? c->done : 1; }
+
+int fpl_chaos_get_result(const fpl_chaos *c, fpl_chaos_result *result)
+{
+    if (!c || !result) return fpl_error(NULL, FPL_ERR_ARG, "chaos/result: NULL pointer");
+    *result = c->res;
+    fpl_integrator_counters(c->h, &result->steps, NULL);
+    return FPL_OK;
+}
+
+static double sample_target(const fpl_chaos *c, int i)
+{
+    const int n = c->opt.n_samples;
+    return n == 1 ? c->T : c->t_first * pow(c->T / c->t_first, (double)i / (n - 1));
+}
+
+int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_out,
+                      double *sali_out, double *gali_out)
+{
+    if (!c) return fpl_error(NULL, FPL_ERR_ARG, "chaos: NULL handle");
+    if (!(t_until == t_until)) return fpl_error(NULL, FPL_ERR_ARG, "t_until must not be NaN");
+    const int k = c->opt.n_dev;
+    const long len = c->len;
+    const double tau = c->opt.renorm_interval;
+    double *y = c->y, *q = c->q, *scale = c->scale;
+    fpl_chaos_result *res = &c->res;
+    int st = FPL_OK;
+    while (!c->done && st == FPL_OK) {
+        const long m = c->m + 1;
+        double t = m == c->n_renorm ? c->opt.t_end : c->t0 + (double)m * tau;
+        if (t > t_until) break;
+        st = fpl_integrator_advance(c->h, t, y);
         if (st) break;
         double n1 = 0.0;
         for (int i = 0; i < k; i++) {
@@ -184,44 +245,90 @@ int fpl_chaos_run(fpl_lattice *lattice, const char *method,
             }
             if (i == 0) n1 = n;
             scale[(size_t)i * k + i] = 1.0 / n;
-            for (long c = 0; c < len; c++) q[(size_t)i * len + c] = y[len * (i + 1) + c] / n;
+            for (long col = 0; col < len; col++) q[(size_t)i * len + col] = y[len * (i + 1) + col] / n;
         }
         if (st) break;
-        logsum += log(n1);
-        res.mle = logsum / (t - t0);
-        res.t_final = t;
+        c->logsum += log(n1);
+        res->mle = c->logsum / (t - c->t0);
+        res->t_final = t;
         if (k >= 2) {
-            res.sali = sali_unit(q, q + len, len);
-            res.gali = gali_unit(q, k, len); /* destroys q; SALI already taken */
-            if (!res.chaotic && res.sali < opt->sali_threshold) {
-                res.chaotic = 1;
-                res.t_chaotic = t;
+            res->sali = sali_unit(q, q + len, len);
+            res->gali = gali_unit(q, k, len); /* destroys q; SALI already taken */
+            if (!res->chaotic && res->sali < c->opt.sali_threshold) {
+                res->chaotic = 1;
+                res->t_chaotic = t;
             }
         }
-        st = fpl_integrator_transform_deviations(h, scale);
+        st = fpl_integrator_transform_deviations(c->h, scale);
         if (st) break;
+        c->m = m;
         /* log-spaced output: t_first (T/t_first)^(i/(n-1)) after t0 */
-        int stop = opt->stop_when_chaotic && res.chaotic;
-        double target = opt->n_samples == 1 ? T
-                      : t_first * pow(T / t_first, (double)next / (opt->n_samples - 1));
-        if (next < opt->n_samples && (t - t0 >= target * (1 - 1e-12) || m == n_renorm || stop)) {
-            if (t_out) t_out[res.n_samples] = t;
-            if (mle_out) mle_out[res.n_samples] = res.mle;
-            if (sali_out) sali_out[res.n_samples] = res.sali;
-            if (gali_out) gali_out[res.n_samples] = res.gali;
-            res.n_samples++;
-            while (next < opt->n_samples &&
-                   t_first * pow(T / t_first, (double)next / fmax(1, opt->n_samples - 1)) <=
-                       (t - t0) * (1 + 1e-12))
-                next++;
+        int stop = c->opt.stop_when_chaotic && res->chaotic;
+        const int n_samples = c->opt.n_samples;
+        if (c->next < n_samples &&
+            (t - c->t0 >= sample_target(c, c->next) * (1 - 1e-12) || m == c->n_renorm || stop)) {
+            if (t_out) t_out[res->n_samples] = t;
+            if (mle_out) mle_out[res->n_samples] = res->mle;
+            if (sali_out) sali_out[res->n_samples] = res->sali;
+            if (gali_out) gali_out[res->n_samples] = res->gali;
+            res->n_samples++;
+            while (c->next < n_samples && sample_target(c, c->next) <= (t - c->t0) * (1 + 1e-12))
+                c->next++;
         }
-        if (stop) break;
+        if (stop || m == c->n_renorm) c->done = 1;
     }
-    fpl_integrator_counters(h, &res.steps, NULL);
-    fpl_integrator_free(&h);
-    free(y);
-    free(q);
-    free(scale);
-    if (result) *result = res;
+    return st;
+}
+
+/* Accumulators, in this order: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
+ * t_final, done (doubles represent the counts exactly up to 2^53). */
+int fpl_chaos_save(const fpl_chaos *c, double *acc)
+{
+    if (!c || !acc) return fpl_error(NULL, FPL_ERR_ARG, "chaos/acc: NULL pointer");
+    const fpl_chaos_result *r = &c->res;
+    const double a[FPL_CHAOS_N_ACCUMULATORS] = {
+        (double)c->m, c->logsum, c->next, r->n_samples, r->chaotic, r->t_chaotic,
+        r->mle, r->sali, r->gali, r->t_final, c->done};
+    memcpy(acc, a, sizeof a);
+    return FPL_OK;
+}
+
+int fpl_chaos_restore(fpl_chaos *c, const double *acc)
+{
+    if (!c || !acc) return fpl_error(NULL, FPL_ERR_ARG, "chaos/acc: NULL pointer");
+    if (!(acc[0] >= 0 && acc[0] <= c->n_renorm) || acc[0] != floor(acc[0]) ||
+        !(acc[2] >= 0 && acc[2] <= c->opt.n_samples) || !(acc[3] >= 0 && acc[3] <= c->opt.n_samples))
+        return fpl_error(NULL, FPL_ERR_ARG, "chaos accumulators do not fit this run (renormalisation "
+                         "%g of %ld, sample %g of %d)", acc[0], c->n_renorm, acc[3], c->opt.n_samples);
+    const double t = acc[0] == c->n_renorm ? c->opt.t_end : c->t0 + acc[0] * c->opt.renorm_interval;
+    if (acc[0] > 0 && fpl_integrator_time(c->h) != t)
+        return fpl_error(NULL, FPL_ERR_ARG, "chaos accumulators are for t = %.17g, the integrator "
+                         "is at t = %.17g (restore the integrator from the same checkpoint first)",
+                         t, fpl_integrator_time(c->h));
+    c->m = (long)acc[0];
+    c->logsum = acc[1];
+    c->next = (int)acc[2];
+    c->res.n_samples = (int)acc[3];
+    c->res.chaotic = acc[4] != 0;
+    c->res.t_chaotic = acc[5];
+    c->res.mle = acc[6];
+    c->res.sali = acc[7];
+    c->res.gali = acc[8];
+    c->res.t_final = acc[9];
+    c->done = acc[10] != 0;
+    return FPL_OK;
+}
+
+int fpl_chaos_run(fpl_lattice *lattice, const char *method,
+                  const fpl_integrator_options *integrator_options, double t0, const double *y0,
+                  const double *w0, const fpl_chaos_options *opt, double *t_out, double *mle_out,
+                  double *sali_out, double *gali_out, fpl_chaos_result *result)
+{
+    fpl_chaos *c = NULL;
+    int st = fpl_chaos_create(lattice, method, integrator_options, t0, y0, w0, opt, &c);
+    if (st) return st;
+    st = fpl_chaos_advance(c, opt->t_end, t_out, mle_out, sali_out, gali_out);
+    if (result) fpl_chaos_get_result(c, result);
+    fpl_chaos_free(&c);
     return st;
 }

@@ -11,4 +11,5 @@
 #include "fputlab/chaos.h"
 #include "fputlab/events.h"
 #include "fputlab/reduction.h"
+#include "fputlab/io.h"
 #endif

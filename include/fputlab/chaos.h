@@ -56,6 +56,29 @@ FPL_API int fpl_chaos_run(fpl_lattice *lattice, const char *method,
                           double *t_out, double *mle_out, double *sali_out, double *gali_out,
                           fpl_chaos_result *result);
 
+/* The same computation as a handle that can be advanced piecewise and checkpointed:
+ *   fpl_chaos_create(...); while (!fpl_chaos_done(c)) fpl_chaos_advance(c, t_next, ...);
+ * fpl_chaos_advance performs the renormalisations due up to t_until (capped at t_end) and writes
+ * the log-spaced samples they produce at their global indices (0 .. n_samples-1) of the arrays
+ * (each of length opt->n_samples, or NULL); fpl_chaos_get_result tells how many there are.
+ * A checkpoint holds the integrator (fpl_chaos_integrator, see fputlab/io.h) and the
+ * FPL_CHAOS_N_ACCUMULATORS numbers of fpl_chaos_save; restoring both continues bit for bit. */
+typedef struct fpl_chaos fpl_chaos;
+enum { FPL_CHAOS_N_ACCUMULATORS = 11 };
+FPL_API int fpl_chaos_create(fpl_lattice *lattice, const char *method,
+                             const fpl_integrator_options *integrator_options, double t0,
+                             const double *y0, const double *w0, const fpl_chaos_options *opt,
+                             fpl_chaos **out);
+FPL_API void fpl_chaos_free(fpl_chaos **chaos);
+FPL_API int fpl_chaos_advance(fpl_chaos *chaos, double t_until, double *t_out, double *mle_out,
+                              double *sali_out, double *gali_out);
+/* 1 once t_end is reached (or the orbit was found chaotic with stop_when_chaotic). */
+FPL_API int fpl_chaos_done(const fpl_chaos *chaos);
+FPL_API int fpl_chaos_get_result(const fpl_chaos *chaos, fpl_chaos_result *result);
+FPL_API fpl_integrator *fpl_chaos_integrator(fpl_chaos *chaos);
+FPL_API int fpl_chaos_save(const fpl_chaos *chaos, double *accumulators);
+FPL_API int fpl_chaos_restore(fpl_chaos *chaos, const double *accumulators);
+
 /* SALI of two vectors of length len (each normalised first); 0 for parallel, sqrt(2) for
  * orthogonal vectors. */
 FPL_API int fpl_chaos_sali(const double *w1, const double *w2, long len, double *sali);

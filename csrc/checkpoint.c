@@ -1,0 +1,246 @@
+/* Checkpoints: the whole state of a run in one small HDF5 file, written atomically
+ * (temporary file in the same folder, fsync, rename, fsync of the folder), validated strictly
+ * when loaded. A checksum over the numbers that define the continuation catches corruption that
+ * HDF5 itself would read without complaint. */
+#define _POSIX_C_SOURCE 200809L
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "h5util.h"
+#include "integrator_impl.h"
+
+#define SCHEMA "fputlab-checkpoint/1"
+
+/* FNV-1a, 64 bit. */
+static unsigned long long fnv1a(unsigned long long h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 1099511628211ULL;
+    }
+    return h;
+}
+
+static unsigned long long checksum(long steps, double t, const double *y, long dim,
+                                   const double *v, int n, const double *extra, int n_extra)
+{
+    unsigned long long h = 14695981039346656037ULL;
+    long long s = steps;
+    h = fnv1a(h, &s, sizeof s);
+    h = fnv1a(h, &t, sizeof t);
+    h = fnv1a(h, y, sizeof(double) * (size_t)dim);
+    h = fnv1a(h, v, sizeof(double) * (size_t)n);
+    return fnv1a(h, extra, sizeof(double) * (size_t)n_extra);
+}
+
+/* The run description of the checkpoint comes from the integrator itself (method, options, t0,
+ * deviation vectors); info adds what the integrator does not know (kind, disorder). */
+static fpl_run_info describe(const fpl_integrator *h, const fpl_run_info *info)
+{
+    fpl_run_info d;
+    if (info) d = *info; else fpl_run_info_init(&d);
+    d.method = h->method->name;
+    d.dt = h->method->backend->adaptive ? NAN : h->opt.dt;
+    d.rtol = h->method->backend->adaptive ? h->opt.rtol : NAN;
+    d.atol = h->method->backend->adaptive ? h->opt.atol : NAN;
+    d.t0 = h->t0;
+    d.n_dev = h->n_dev;
+    return d;
+}
+
+static int fsync_path(const char *path, int flags)
+{
+    int fd = open(path, flags);
+    if (fd < 0) return -1;
+    int rc = fsync(fd);
+    close(fd);
+    return rc;
+}
+
+static void folder_of(const char *path, char *dir, size_t len)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, len, ".");
+    else if (slash == path) snprintf(dir, len, "/");
+    else snprintf(dir, len, "%.*s", (int)(slash - path), path);
+}
+
+int fpl_checkpoint_write(const char *path, const fpl_integrator *h, const fpl_run_info *info,
+                         const double *extra, int n_extra)
+{
+    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    if (n_extra < 0 || n_extra > FPL_CHECKPOINT_MAX_EXTRA || (n_extra > 0 && !extra))
+        return fpl_error(NULL, FPL_ERR_ARG, "n_extra must be 0..%d with extra non-NULL (got %d)",
+                         FPL_CHECKPOINT_MAX_EXTRA, n_extra);
+    const fpl_lattice *lat = h->lat;
+    fpl_run_info d = describe(h, info);
+    char tmp[4096];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid()) >= (int)sizeof tmp)
+        return fpl_error(NULL, FPL_ERR_ARG, "path: file name too long");
+
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    char msg[256] = "";
+    int st = FPL_OK;
+    hid_t f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (f < 0) {
+        fpl_h5_error_text(msg, sizeof msg);
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot create checkpoint %s: %s", tmp, msg);
+        goto out;
+    }
+    unsigned long long sum = checksum(h->n_steps, h->t, h->y, h->dim, lat->v, lat->n, extra, n_extra);
+    int bad = fpl_h5_write_description(f, SCHEMA, lat, &d) ||
+              fpl_h5_set_long(f, "n_steps", h->n_steps) || fpl_h5_set_double(f, "t", h->t) ||
+              fpl_h5_set_u64(f, "checksum", sum) ||
+              fpl_h5_write_vector(f, "state", h->y, (size_t)h->dim) ||
+              fpl_h5_write_vector(f, "extra", extra, (size_t)n_extra);
+    if (bad) fpl_h5_error_text(msg, sizeof msg);
+    if (H5Fclose(f) < 0 && !bad) {
+        bad = 1;
+        fpl_h5_error_text(msg, sizeof msg);
+    }
+    if (bad) {
+        st = fpl_error(NULL, FPL_ERR_IO, "writing checkpoint %s failed: %s", tmp, msg);
+        goto out;
+    }
+    char dir[4096];
+    folder_of(path, dir, sizeof dir);
+    if (fsync_path(tmp, O_RDONLY) != 0 || rename(tmp, path) != 0) {
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot move checkpoint %s into place as %s", tmp, path);
+        goto out;
+    }
+    fsync_path(dir, O_RDONLY); /* best effort: some file systems refuse fsync on folders */
+out:
+    if (st) remove(tmp);
+    fpl_h5_quiet_end(&q);
+    return st;
+}
+
+static int open_checkpoint(const char *path, hid_t *f)
+{
+    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
+    if (access(path, R_OK) != 0)
+        return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s does not exist or is not readable", path);
+    *f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (*f < 0) {
+        char msg[256];
+        fpl_h5_error_text(msg, sizeof msg);
+        return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is not a readable HDF5 file (corrupt?): %s",
+                         path, msg);
+    }
+    return FPL_OK;
+}
+
+int fpl_checkpoint_peek(const char *path, double *t, long *n_steps)
+{
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    hid_t f = -1;
+    int st = open_checkpoint(path, &f);
+    if (!st) {
+        double tt;
+        long n;
+        if (fpl_h5_get_double(f, "t", &tt) || fpl_h5_get_long(f, "n_steps", &n))
+            st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: t or n_steps missing", path);
+        else {
+            if (t) *t = tt;
+            if (n_steps) *n_steps = n;
+        }
+        H5Fclose(f);
+    }
+    H5Eclear2(H5E_DEFAULT);
+    fpl_h5_quiet_end(&q);
+    return st;
+}
+
+static int same_double(double a, double b) { return memcmp(&a, &b, sizeof a) == 0 || (isnan(a) && isnan(b)); }
+
+/* Everything but the lattice (checked by fpl_h5_check_description). */
+static int check_run(hid_t f, const char *path, const fpl_integrator *h, const fpl_run_info *want)
+{
+    char buf[128];
+    long n_dev = -1;
+    double dt = NAN, rtol = NAN, atol = NAN, t0 = NAN;
+    if (fpl_h5_get_string(f, "fputlab_version", buf, sizeof buf))
+        return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: fputlab_version missing", path);
+    if (strcmp(buf, fpl_version()) != 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s was written by fputlab %s; this is %s "
+                         "(a restart must use the same version to continue bit for bit)", path,
+                         buf, fpl_version());
+    if (want->kind && (fpl_h5_get_string(f, "kind", buf, sizeof buf) || strcmp(buf, want->kind)))
+        return fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s is of a '%s' run, not '%s'", path, buf,
+                         want->kind);
+    if (fpl_h5_get_long(f, "n_dev", &n_dev) || fpl_h5_get_double(f, "dt", &dt) ||
+        fpl_h5_get_double(f, "rtol", &rtol) || fpl_h5_get_double(f, "atol", &atol) ||
+        fpl_h5_get_double(f, "t0", &t0))
+        return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: run attributes missing", path);
+    if (n_dev != want->n_dev)
+        return fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s carries %ld deviation vectors, this run %d",
+                         path, n_dev, want->n_dev);
+    if (!same_double(dt, want->dt) || !same_double(rtol, want->rtol) || !same_double(atol, want->atol))
+        return fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s used dt = %g, rtol = %g, atol = %g; this "
+                         "run dt = %g, rtol = %g, atol = %g", path, dt, rtol, atol, want->dt,
+                         want->rtol, want->atol);
+    if (!same_double(t0, h->t0))
+        return fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s started at t0 = %.17g, this run at %.17g",
+                         path, t0, h->t0);
+    return FPL_OK;
+}
+
+int fpl_checkpoint_load(const char *path, fpl_integrator *h, const fpl_run_info *info,
+                        double *extra, int max_extra, int *n_extra)
+{
+    if (n_extra) *n_extra = 0;
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    if (max_extra < 0 || (max_extra > 0 && !extra))
+        return fpl_error(NULL, FPL_ERR_ARG, "max_extra must be >= 0 with extra non-NULL (got %d)",
+                         max_extra);
+    fpl_run_info want = describe(h, info);
+    if (!info) want.kind = NULL;
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    hid_t f = -1;
+    double *y = NULL, ex[FPL_CHECKPOINT_MAX_EXTRA];
+    int st = open_checkpoint(path, &f);
+    if (st) goto out;
+    if ((st = fpl_h5_check_description(f, path, SCHEMA, h->lat, h->method->name))) goto out;
+    if ((st = check_run(f, path, h, &want))) goto out;
+    long steps;
+    double t;
+    unsigned long long sum;
+    size_t len = (size_t)h->dim, nex = FPL_CHECKPOINT_MAX_EXTRA;
+    if (!(y = malloc(sizeof(double) * len))) {
+        st = fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (checkpoint state)");
+        goto out;
+    }
+    if (fpl_h5_get_long(f, "n_steps", &steps) || fpl_h5_get_double(f, "t", &t) ||
+        fpl_h5_get_u64(f, "checksum", &sum) || fpl_h5_read_vector(f, "state", y, &len) ||
+        len != (size_t)h->dim || fpl_h5_read_vector(f, "extra", ex, &nex)) {
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: state, extra, t, n_steps or checksum "
+                       "missing or of the wrong size", path);
+        goto out;
+    }
+    if (checksum(steps, t, y, h->dim, h->lat->v, h->lat->n, ex, (int)nex) != sum) {
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt (checksum mismatch)", path);
+        goto out;
+    }
+    if ((int)nex > max_extra) {
+        st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s holds %zu accumulators, room for %d", path,
+                       nex, max_extra);
+        goto out;
+    }
+    if ((st = fpl_integrator_restore(h, steps, t, y))) goto out;
+    if (nex) memcpy(extra, ex, sizeof(double) * nex);
+    if (n_extra) *n_extra = (int)nex;
+out:
+    free(y);
+    if (f >= 0) H5Fclose(f);
+    H5Eclear2(H5E_DEFAULT);
+    fpl_h5_quiet_end(&q);
+    return st;
+}

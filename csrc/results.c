@@ -1,0 +1,412 @@
+/* Results files: samples appended chunk by chunk to extendible, chunked, compressed HDF5
+ * datasets (schema in docs/hdf5.md). Memory use is one chunk, whatever the length of the run. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "h5util.h"
+#include "internal.h"
+
+#define SCHEMA "fputlab-results/1"
+#define MAX_CHUNK_BYTES (1 << 20)
+
+/* One extendible dataset of rows of `cols` doubles (cols = 0: a 1-D dataset). */
+typedef struct series {
+    hid_t d;
+    int cols;
+    long rows;      /* rows on disk */
+} series;
+
+enum { S_T, S_ENERGY, S_MODE_ENERGIES, S_STATES, S_COUNT };
+enum { C_T, C_MLE, C_SALI, C_GALI, C_COUNT };
+
+struct fpl_results {
+    hid_t file;
+    fpl_lattice *lat;
+    long dim;                  /* 2N(1 + n_dev) */
+    int store_states, chunk;
+    series s[S_COUNT];         /* S_STATES.d < 0 unless store_states */
+    series c[C_COUNT];         /* /chaos, created on the first chaos sample */
+    double *buf[S_COUNT];      /* chunk rows each */
+    double *cbuf[C_COUNT];
+    int nbuf, ncbuf;           /* buffered rows */
+    double *ek;                /* N */
+    char errmsg[FPL_ERRMSG_LEN];
+};
+
+static const char *s_names[S_COUNT] = {"t", "energy", "mode_energies", "states"};
+static const char *c_names[C_COUNT] = {"chaos/t", "chaos/mle", "chaos/sali", "chaos/gali"};
+
+static int fail(fpl_results *r, int status)
+{
+    if (r) memcpy(r->errmsg, fpl_last_error(), sizeof r->errmsg);
+    return status;
+}
+
+static int h5_fail(fpl_results *r, const char *what)
+{
+    char msg[256];
+    fpl_h5_error_text(msg, sizeof msg);
+    return fail(r, fpl_error(NULL, FPL_ERR_IO, "HDF5: %s failed: %s", what, msg));
+}
+
+static hid_t create_series(hid_t loc, const char *name, int cols, int chunk_rows)
+{
+    int rank = cols ? 2 : 1;
+    hsize_t dims[2] = {0, (hsize_t)cols}, maxdims[2] = {H5S_UNLIMITED, (hsize_t)cols};
+    long rows_fit = MAX_CHUNK_BYTES / (8L * (cols ? cols : 1));
+    hsize_t chunk[2] = {(hsize_t)(rows_fit < 1 ? 1 : rows_fit < chunk_rows ? rows_fit : chunk_rows),
+                        (hsize_t)cols};
+    hid_t space = H5Screate_simple(rank, dims, maxdims), dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE), d = -1;
+    if (space >= 0 && dcpl >= 0 && lcpl >= 0 && H5Pset_chunk(dcpl, rank, chunk) >= 0 &&
+        H5Pset_shuffle(dcpl) >= 0 && H5Pset_deflate(dcpl, 4) >= 0 &&
+        H5Pset_create_intermediate_group(lcpl, 1) >= 0)
+        d = H5Dcreate2(loc, name, H5T_NATIVE_DOUBLE, space, lcpl, dcpl, H5P_DEFAULT);
+    if (space >= 0) H5Sclose(space);
+    if (dcpl >= 0) H5Pclose(dcpl);
+    if (lcpl >= 0) H5Pclose(lcpl);
+    return d;
+}
+
+/* Append n rows from buf to a series. */
+static int append_rows(series *s, const double *buf, int n)
+{
+    if (n == 0 || s->d < 0) return 0;
+    int rank = s->cols ? 2 : 1;
+    hsize_t size[2] = {(hsize_t)(s->rows + n), (hsize_t)s->cols};
+    hsize_t start[2] = {(hsize_t)s->rows, 0}, count[2] = {(hsize_t)n, (hsize_t)s->cols};
+    if (H5Dset_extent(s->d, size) < 0) return -1;
+    hid_t fs = H5Dget_space(s->d), ms = H5Screate_simple(rank, count, NULL);
+    int ok = fs >= 0 && ms >= 0 &&
+             H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+             H5Dwrite(s->d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, buf) >= 0;
+    if (fs >= 0) H5Sclose(fs);
+    if (ms >= 0) H5Sclose(ms);
+    if (ok) s->rows += n;
+    return ok ? 0 : -1;
+}
+
+static int set_rows(series *s, long rows)
+{
+    hsize_t size[2] = {(hsize_t)rows, (hsize_t)s->cols};
+    if (s->d < 0) return 0;
+    if (H5Dset_extent(s->d, size) < 0) return -1;
+    s->rows = rows;
+    return 0;
+}
+
+static long series_rows(hid_t d)
+{
+    hid_t space = H5Dget_space(d);
+    hsize_t dims[2] = {0, 0};
+    if (space < 0) return -1;
+    int ok = H5Sget_simple_extent_dims(space, dims, NULL) >= 1;
+    H5Sclose(space);
+    return ok ? (long)dims[0] : -1;
+}
+
+static void release(fpl_results *r)
+{
+    for (int i = 0; i < S_COUNT; i++) {
+        if (r->s[i].d >= 0) H5Dclose(r->s[i].d);
+        free(r->buf[i]);
+    }
+    for (int i = 0; i < C_COUNT; i++) {
+        if (r->c[i].d >= 0) H5Dclose(r->c[i].d);
+        free(r->cbuf[i]);
+    }
+    if (r->file >= 0) H5Fclose(r->file);
+    free(r->ek);
+    free(r);
+}
+
+static int check_info(const fpl_lattice *lat, const fpl_run_info *info)
+{
+    if (!lat) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
+    if (!info) return fpl_error(NULL, FPL_ERR_ARG, "info: NULL run description");
+    if (info->n_dev < 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", info->n_dev);
+    if (info->chunk_rows < 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "chunk_rows must be >= 0 (got %d)", info->chunk_rows);
+    return FPL_OK;
+}
+
+/* Allocate the handle and its buffers (file not yet open). */
+static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **out)
+{
+    fpl_results *r = calloc(1, sizeof *r);
+    if (!r) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (results)");
+    r->file = -1;
+    r->lat = lat;
+    r->dim = 2L * lat->n * (1 + info->n_dev);
+    r->store_states = info->store_states != 0;
+    r->chunk = info->chunk_rows ? info->chunk_rows : 256;
+    const int cols[S_COUNT] = {0, 0, lat->n, (int)r->dim};
+    int bad = !(r->ek = malloc(sizeof(double) * (size_t)lat->n));
+    for (int i = 0; i < S_COUNT; i++) {
+        r->s[i] = (series){-1, cols[i], 0};
+        if (i == S_STATES && !r->store_states) continue;
+        bad |= !(r->buf[i] = malloc(sizeof(double) * (size_t)r->chunk * (cols[i] ? cols[i] : 1)));
+    }
+    for (int i = 0; i < C_COUNT; i++) {
+        r->c[i] = (series){-1, 0, 0};
+        bad |= !(r->cbuf[i] = malloc(sizeof(double) * (size_t)r->chunk));
+    }
+    if (bad) {
+        release(r);
+        return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (results buffers, %d rows)", info->chunk_rows);
+    }
+    *out = r;
+    return FPL_OK;
+}
+
+int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+                       fpl_results **out)
+{
+    if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
+    *out = NULL;
+    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
+    int st = check_info(lat, info);
+    if (st) return st;
+    fpl_results *r;
+    if ((st = new_handle(lat, info, &r))) return st;
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    r->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (r->file < 0) {
+        char msg[256];
+        fpl_h5_error_text(msg, sizeof msg);
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot create results file %s: %s", path, msg);
+        goto done;
+    }
+    if (fpl_h5_write_description(r->file, SCHEMA, lat, info) ||
+        fpl_h5_set_string(r->file, "status", "running") ||
+        fpl_h5_set_string(r->file, "message", "")) {
+        st = h5_fail(r, "writing the run description");
+        goto done;
+    }
+    for (int i = 0; i < S_COUNT; i++) {
+        if (i == S_STATES && !r->store_states) continue;
+        if ((r->s[i].d = create_series(r->file, s_names[i], r->s[i].cols, r->chunk)) < 0) {
+            st = h5_fail(r, "creating the datasets");
+            goto done;
+        }
+    }
+    if (H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0) st = h5_fail(r, "flush");
+done:
+    fpl_h5_quiet_end(&q);
+    if (st) {
+        release(r);
+        return st;
+    }
+    *out = r;
+    return FPL_OK;
+}
+
+/* Number of leading entries of the 1-D dataset d that are <= t (d is non-decreasing). */
+static long rows_up_to(hid_t d, long n, double t)
+{
+    long lo = 0, hi = n; /* answer in [lo, hi] */
+    hid_t fs = H5Dget_space(d);
+    hsize_t one = 1;
+    hid_t ms = H5Screate_simple(1, &one, NULL);
+    while (lo < hi) {
+        long mid = lo + (hi - lo) / 2;
+        hsize_t start = (hsize_t)mid;
+        double x = NAN;
+        if (H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &one, NULL) < 0 ||
+            H5Dread(d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, &x) < 0) {
+            lo = -1;
+            break;
+        }
+        if (x <= t) lo = mid + 1; else hi = mid;
+    }
+    H5Sclose(ms);
+    H5Sclose(fs);
+    return lo;
+}
+
+int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+                       double t_resume, fpl_results **out)
+{
+    if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
+    *out = NULL;
+    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
+    if (!isfinite(t_resume)) return fpl_error(NULL, FPL_ERR_ARG, "t_resume must be finite");
+    int st = check_info(lat, info);
+    if (st) return st;
+    fpl_results *r;
+    if ((st = new_handle(lat, info, &r))) return st;
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    r->file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (r->file < 0) {
+        char msg[256];
+        fpl_h5_error_text(msg, sizeof msg);
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot open results file %s to resume: %s", path, msg);
+        goto done;
+    }
+    if ((st = fpl_h5_check_description(r->file, path, SCHEMA, lat, info->method))) goto done;
+    for (int i = 0; i < S_COUNT; i++) {
+        if (i == S_STATES && !r->store_states) continue;
+        if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
+            (r->s[i].d = H5Dopen2(r->file, s_names[i], H5P_DEFAULT)) < 0) {
+            H5Eclear2(H5E_DEFAULT);
+            st = fpl_error(NULL, FPL_ERR_ARG, "%s has no dataset %s (was it written with the same "
+                           "options?)", path, s_names[i]);
+            goto done;
+        }
+    }
+    long keep = rows_up_to(r->s[S_T].d, series_rows(r->s[S_T].d), t_resume);
+    for (int i = 0; i < S_COUNT && keep >= 0; i++)
+        if (set_rows(&r->s[i], keep)) keep = -1;
+    if (keep >= 0 && H5Lexists(r->file, "chaos", H5P_DEFAULT) > 0) {
+        for (int i = 0; i < C_COUNT; i++)
+            if ((r->c[i].d = H5Dopen2(r->file, c_names[i], H5P_DEFAULT)) < 0) keep = -1;
+        long ckeep = keep < 0 ? -1 : rows_up_to(r->c[C_T].d, series_rows(r->c[C_T].d), t_resume);
+        for (int i = 0; i < C_COUNT && ckeep >= 0; i++)
+            if (set_rows(&r->c[i], ckeep)) ckeep = -1;
+        if (ckeep < 0) keep = -1;
+    }
+    if (keep < 0 || fpl_h5_set_string(r->file, "status", "running") ||
+        H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0)
+        st = h5_fail(r, "truncating the results to the checkpoint");
+done:
+    fpl_h5_quiet_end(&q);
+    if (st) {
+        release(r);
+        return st;
+    }
+    *out = r;
+    return FPL_OK;
+}
+
+const char *fpl_results_errmsg(const fpl_results *r) { return r ? r->errmsg : ""; }
+
+long fpl_results_count(const fpl_results *r) { return r ? r->s[S_T].rows + r->nbuf : -1; }
+
+/* Write buffered rows (no flush of the file). */
+static int write_buffers(fpl_results *r)
+{
+    for (int i = 0; i < S_COUNT; i++)
+        if (append_rows(&r->s[i], r->buf[i], r->nbuf)) return -1;
+    r->nbuf = 0;
+    for (int i = 0; i < C_COUNT; i++)
+        if (append_rows(&r->c[i], r->cbuf[i], r->ncbuf)) return -1;
+    r->ncbuf = 0;
+    return 0;
+}
+
+int fpl_results_flush(fpl_results *r)
+{
+    if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    int st = write_buffers(r) || H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "writing samples")
+                                                                      : FPL_OK;
+    fpl_h5_quiet_end(&q);
+    return st;
+}
+
+int fpl_results_append(fpl_results *r, double t, const double *y)
+{
+    if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
+    if (!y) return fail(r, fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer"));
+    if (!isfinite(t)) return fail(r, fpl_error(NULL, FPL_ERR_ARG, "t must be finite (got %g)", t));
+    const long n = r->lat->n;
+    long bad;
+    if (!fpl_is_finite_array(y, r->store_states ? r->dim : 2 * n, &bad))
+        return fail(r, fpl_error(NULL, FPL_ERR_NONFINITE,
+                                 "state at t = %.17g has a non-finite entry y[%ld]: not written", t, bad));
+    int st = fpl_modes_energies(r->lat, y, r->ek);
+    if (st) return fail(r, st);
+    double e = r->lat->ops->energy(r->lat, y);
+    if (!isfinite(e) || !fpl_is_finite_array(r->ek, n, NULL))
+        return fail(r, fpl_error(NULL, FPL_ERR_NONFINITE,
+                                 "energies overflowed at t = %.17g (blow-up): not written", t));
+    const int k = r->nbuf;
+    r->buf[S_T][k] = t;
+    r->buf[S_ENERGY][k] = e;
+    memcpy(r->buf[S_MODE_ENERGIES] + (size_t)k * n, r->ek, sizeof(double) * (size_t)n);
+    if (r->store_states) memcpy(r->buf[S_STATES] + (size_t)k * r->dim, y, sizeof(double) * (size_t)r->dim);
+    r->nbuf++;
+    return r->nbuf == r->chunk ? fpl_results_flush(r) : FPL_OK;
+}
+
+int fpl_results_append_chaos(fpl_results *r, double t, double mle, double sali, double gali)
+{
+    if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
+    if (!isfinite(t) || !isfinite(mle))
+        return fail(r, fpl_error(NULL, FPL_ERR_ARG, "t and mle must be finite (got %g, %g)", t, mle));
+    if (r->c[C_T].d < 0) {
+        fpl_h5_quiet q;
+        fpl_h5_quiet_begin(&q);
+        int bad = 0;
+        for (int i = 0; i < C_COUNT && !bad; i++)
+            bad = (r->c[i].d = create_series(r->file, c_names[i], 0, r->chunk)) < 0;
+        int st = bad ? h5_fail(r, "creating the chaos datasets") : FPL_OK;
+        fpl_h5_quiet_end(&q);
+        if (st) return st;
+    }
+    const int k = r->ncbuf;
+    r->cbuf[C_T][k] = t;
+    r->cbuf[C_MLE][k] = mle;
+    r->cbuf[C_SALI][k] = sali;
+    r->cbuf[C_GALI][k] = gali;
+    r->ncbuf++;
+    return r->ncbuf == r->chunk ? fpl_results_flush(r) : FPL_OK;
+}
+
+int fpl_results_set_status(fpl_results *r, const char *status, const char *message)
+{
+    static const char *known[] = {"running", "completed", "event", "failed", "interrupted"};
+    if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
+    int ok = 0;
+    for (size_t i = 0; status && i < sizeof known / sizeof *known; i++) ok |= !strcmp(status, known[i]);
+    if (!ok)
+        return fail(r, fpl_error(NULL, FPL_ERR_ARG, "status must be running, completed, event, "
+                                 "failed or interrupted (got %s)", status ? status : "NULL"));
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    int st = fpl_h5_set_string(r->file, "status", status) ||
+             fpl_h5_set_string(r->file, "message", message ? message : "")
+                 ? h5_fail(r, "writing the status") : FPL_OK;
+    fpl_h5_quiet_end(&q);
+    return st ? st : fpl_results_flush(r);
+}
+
+int fpl_results_set_event(fpl_results *r, double t, const char *criterion)
+{
+    if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    int st = fpl_h5_set_double(r->file, "event_time", t) ||
+             fpl_h5_set_string(r->file, "event_criterion", criterion ? criterion : "")
+                 ? h5_fail(r, "writing the event") : FPL_OK;
+    fpl_h5_quiet_end(&q);
+    return st;
+}
+
+int fpl_results_close(fpl_results **rp)
+{
+    if (!rp || !*rp) return FPL_OK;
+    int st = fpl_results_flush(*rp);
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    release(*rp);
+    fpl_h5_quiet_end(&q);
+    *rp = NULL;
+    return st;
+}
+
+void fpl_run_info_init(fpl_run_info *info)
+{
+    if (!info) return;
+    memset(info, 0, sizeof *info);
+    info->kind = "simulate";
+    info->method = "";
+    info->dt = info->rtol = info->atol = NAN;
+    info->tau = NAN;
+    info->seed = -1;
+    info->disorder = "";
+}
