@@ -9,7 +9,7 @@ from typing import Iterator
 import numpy as np
 
 from ._arrays import as_float_array, ptr
-from ._errors import IntegrationError, check
+from ._errors import FputlabError, IntegrationError, check
 from ._native import ffi, lib
 from .lattice import Lattice, _int, _real
 
@@ -122,7 +122,7 @@ class Integrator:
         cut = lambda a: None if a is None else a[:k]
         try:
             self._check(status)
-        except IntegrationError as err:
+        except FputlabError as err:   # NaN/Inf, or a back end (CVODE, GSL) giving up at a blow-up
             err.partial = (k, cut(st), cut(ek), cut(en))
             raise
         return k, st, ek, en
@@ -192,7 +192,8 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     stop_on: stopping criteria, e.g. [("stretch", 4.0), ("energy", 1.0)] (see fputlab.blowup):
     the run ends at the first crossing, located by root-finding, with `run.event` set and the
     state there in `run.final_state`.
-    If the state becomes NaN/Inf (blow-up), on_failure="raise" raises IntegrationError whose
+    If the state becomes NaN/Inf (blow-up) or an adaptive back end gives up (CVODE/GSL step-size
+    failure at a blow-up), on_failure="raise" raises IntegrationError whose
     `.result` holds the finite samples before it; "return" returns them with completed=False."""
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
@@ -230,14 +231,16 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
     N = lattice.N
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
     parts = {"t": [], "ek": [], "en": [], "st": []}
-    message, completed = "", True
+    message, completed, status = "", True, lib.FPL_ERR_NONFINITE
     for start in range(0, ts.size, chunk):
         block = ts[start:start + chunk]
         try:
             k, st, ek, en = integ.sample(block, states=store_states)
-        except IntegrationError as err:
+        except FputlabError as err:
+            if not hasattr(err, "partial"):
+                raise
             k, st, ek, en = err.partial
-            completed, message = False, str(err)
+            completed, message, status = False, str(err), err.status
         parts["t"].append(block[:k])
         parts["ek"].append(ek[:k])
         parts["en"].append(en[:k])
@@ -255,8 +258,7 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
               y0=orbit.copy(), counters=integ.counters, event=integ.event,
               final_state=integ.state if integ.n_dev else integ.state[0])
     if not completed and on_failure == "raise":
-        err = IntegrationError(message, lib.FPL_ERR_NONFINITE, run)
-        raise err
+        raise IntegrationError(message, status, run)
     return run
 
 

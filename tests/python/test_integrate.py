@@ -78,3 +78,17 @@ def test_blowup_ends_cleanly_with_finite_samples():
     assert np.all(np.isfinite(partial.mode_energies)) and np.all(np.isfinite(partial.energy))
     run = lat.integrate(50.0, y0=lat.mode_state(1, 30.0), sample_every=0.5, on_failure="return")
     assert not run.completed and "non-finite" in run.message
+
+
+@pytest.mark.parametrize("method", ["cvode-bdf", "cvode-adams", "gsl-rk8pd", "dop853", "yoshida4"])
+def test_blowup_keeps_the_finite_samples_for_every_back_end(method):
+    """A blow-up ends the run with every finite sample before it, whichever back end failed
+    (NaN/Inf for the splitting schemes, a step-size failure for CVODE/GSL)."""
+    lat = fputlab.Lattice(4, 0.25)
+    y0 = lat.mode_state(1, 30.0)        # far beyond the cubic barrier: escapes at once
+    run = lat.integrate(50.0, method=method, y0=y0, sample_every=0.05, on_failure="return")
+    assert not run.completed and run.message
+    assert 0 < run.t.size < 1001 and np.isfinite(run.mode_energies).all()
+    with pytest.raises(fputlab.IntegrationError) as err:
+        lat.integrate(50.0, method=method, y0=y0, sample_every=0.05)
+    assert err.value.result.t.size == run.t.size and not err.value.result.completed
