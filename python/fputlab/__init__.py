@@ -12,9 +12,11 @@ from . import analysis, blowup, chaos
 from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
 from .modes import mode_matrix, omega
 from . import reduction
+from . import io
+from .io import load
 
 __version__ = _ffi.string(_lib.fpl_version()).decode()
 
 __all__ = ["Lattice", "draw_disorder", "integrate", "iter_samples", "Integrator", "methods",
            "method_info", "Run", "omega", "mode_matrix",
-           "MODELS", "DISORDERS", "FputlabError", "IntegrationError", "__version__"]
+           "MODELS", "DISORDERS", "load", "FputlabError", "IntegrationError", "__version__"]

@@ -54,20 +54,50 @@ def _write_h5(path, attrs: dict, datasets: dict):
                 f.create_dataset(k, data=np.asarray(v), compression="gzip")
 
 
+def _integrator_kwargs(a) -> dict:
+    return {k: v for k, v in (("dt", a.dt), ("rtol", a.rtol), ("atol", a.atol)) if v is not None}
+
+
+def _ensemble_lattice_check(a):
+    """Ensembles draw their own lattices: options they cannot honour are refused, not ignored."""
+    if a.beta != 0.0:
+        raise ValueError("--beta: ensembles use the paper's FPUT-alpha chain (beta = 0)")
+    if a.disorder != "gaussian":
+        raise ValueError("--disorder: ensembles use the paper's Gaussian disorder")
+
+
+def _checkpoint_kwargs(a) -> dict:
+    return {"checkpoint": a.checkpoint, "checkpoint_every_steps": a.checkpoint_steps,
+            "checkpoint_every_seconds": a.checkpoint_every, "resume": not a.restart,
+            "progress": not a.json}
+
+
+def _run_summary(s) -> dict:
+    out = {"status": s.status, "t_reached": s.t_reached, "samples": s.samples,
+           "resumed_from": s.resumed_from, "checkpoints_written": s.checkpoints,
+           "message": s.message, "out": s.path}
+    if s.event:
+        out["event"] = s.event
+    out.update(s.extra)
+    return out
+
+
 def cmd_simulate(a):
+    if a.checkpoint and not a.out:
+        raise ValueError("--checkpoint needs --out (the results file it belongs to)")
     lat = _lattice(a)
-    run = lat.integrate(a.t_end, method=a.method, dt=a.dt, rtol=a.rtol, atol=a.atol,
-                        sample_every=a.sample_every, store_states=a.states, on_failure="return")
+    if a.out:
+        # long runs: the C core writes the samples as it goes, with checkpoints and restart
+        from .io import simulate_to_file
+        s = simulate_to_file(lat, a.t_end, a.out, method=a.method, sample_every=a.sample_every,
+                             store_states=a.states, **_integrator_kwargs(a), **_checkpoint_kwargs(a))
+        _emit({"lattice": repr(lat), "method": a.method, **_run_summary(s)}, a.json)
+        return {"completed": 0, "event": 0, "interrupted": 130}.get(s.status, 1)
+    run = lat.integrate(a.t_end, method=a.method, sample_every=a.sample_every,
+                        store_states=a.states, on_failure="return", **_integrator_kwargs(a))
     summary = {"lattice": repr(lat), "method": a.method, "t_reached": float(run.t[-1]) if run.t.size else 0.0,
                "samples": int(run.t.size), "completed": run.completed, "message": run.message,
                "max_relative_energy_error": float(run.relative_energy_error.max()) if run.t.size else None}
-    if a.out:
-        _write_h5(a.out, {"N": lat.N, "alpha": lat.alpha, "beta": lat.beta, "model": lat.model,
-                          "tau": lat.tau, "seed": lat.seed if lat.seed is not None else -1,
-                          "method": a.method, "dt": run.dt},
-                  {"v": lat.v, "t": run.t, "mode_energies": run.mode_energies, "energy": run.energy,
-                   "states": run.states})
-        summary["out"] = a.out
     _emit(summary, a.json)
     return 0 if run.completed else 1
 
@@ -75,12 +105,15 @@ def cmd_simulate(a):
 def cmd_blowup(a):
     from .blowup import blowup_sweep, blowup_time
     if a.realisations > 1 or len(a.taus) > 1:
+        _ensemble_lattice_check(a)
         out = blowup_sweep(a.taus, Ns=[a.N], realisations=a.realisations, t_max=a.t_max,
                            model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
-                           workers=a.workers, progress=True)
+                           workers=a.workers, progress=not a.json, **_integrator_kwargs(a))
         summary = {"tau": out["tau"].tolist(), "probability": out["probability"][:, 0].tolist(),
                    "realisations": a.realisations, "t_max": a.t_max,
-                   "two_mode_prediction_accuracy": out["prediction_accuracy"]}
+                   "two_mode_prediction_accuracy": out["prediction_accuracy"],
+                   "records": [dict(zip(("tau", "N", "seed", "blew_up", "time", "tau_c"),
+                                        (float(x) for x in r[:6]))) for r in out["records"]]}
         if a.out:
             rec = np.array([r[:6] for r in out["records"]], dtype=float)
             _write_h5(a.out, {"t_max": a.t_max, "model": a.model, "N": a.N},
@@ -91,7 +124,7 @@ def cmd_blowup(a):
             summary["plot"] = a.plot
         _emit(summary, a.json)
         return 0
-    res = blowup_time(_lattice(a), a.t_max, method=a.method, dt=a.dt, rtol=a.rtol, atol=a.atol)
+    res = blowup_time(_lattice(a), a.t_max, method=a.method, **_integrator_kwargs(a))
     _emit({"blew_up": res.blew_up, "time": res.time, "criterion": res.criterion,
            "t_reached": res.t_reached, "tau": a.tau, "seed": a.seed, "N": a.N}, a.json)
     return 0
@@ -99,17 +132,32 @@ def cmd_blowup(a):
 
 def cmd_chaos(a):
     from .chaos import chaotic_fraction, lyapunov
+    if a.checkpoint and (not a.out or a.realisations > 1):
+        raise ValueError("--checkpoint needs --out and one orbit (use `fputlab sweep` for ensembles)")
+    opts = dict(_integrator_kwargs(a), n_samples=a.samples, stop_when_chaotic=a.stop_when_chaotic)
     if a.realisations > 1:
+        _ensemble_lattice_check(a)
         out = chaotic_fraction(Ns=a.Ns, realisations=a.realisations, tau=a.tau, t_end=a.t_end,
                                model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
-                               workers=a.workers, progress=True, n_samples=a.samples)
-        _emit({"N": out["N"], "percent_chaotic": out["percent"], "tau": a.tau, "t_end": a.t_end}, a.json)
+                               workers=a.workers, progress=not a.json, **opts)
+        summary = {"N": out["N"], "percent_chaotic": out["percent"], "tau": a.tau, "t_end": a.t_end}
+        if a.out:
+            rows = [(N, i, r.mle_final, float(r.sali[-1]) if r.sali.size else np.nan, r.t_final)
+                    for N in out["N"] for i, r in enumerate(out["results"][N])]
+            _write_h5(a.out, {"model": a.model, "tau": a.tau, "t_end": a.t_end, "method": a.method,
+                              "columns": "N, realisation, mle, sali, t_final"},
+                      {"N": out["N"], "percent_chaotic": out["percent"], "records": rows})
+            summary["out"] = a.out
+        _emit(summary, a.json)
         return 0
-    res = lyapunov(_lattice(a), a.t_end, method=a.method, dt=a.dt, rtol=a.rtol, atol=a.atol,
-                   n_samples=a.samples, stop_when_chaotic=a.stop_when_chaotic)
     if a.out:
-        _write_h5(a.out, {"N": a.N, "model": a.model, "tau": a.tau, "seed": a.seed, "method": a.method},
-                  {"t": res.t, "mle": res.mle, "sali": res.sali, "gali": res.gali})
+        # written as it goes, with checkpoints: runs to t = 1e8 survive interruptions
+        from .io import chaos_to_file
+        s = chaos_to_file(_lattice(a), a.t_end, a.out, method=a.method, **opts,
+                          **_checkpoint_kwargs(a))
+        _emit(_run_summary(s), a.json)
+        return {"completed": 0, "interrupted": 130}.get(s.status, 1)
+    res = lyapunov(_lattice(a), a.t_end, method=a.method, **opts)
     _emit({"mle": res.mle_final, "sali": float(res.sali[-1]) if res.sali.size else None,
            "class": res.classify(), "t_final": res.t_final, "steps": res.steps}, a.json)
     return 0
@@ -131,6 +179,138 @@ def cmd_methods(a):
     return 0
 
 
+# ---- ensembles and the two-mode reduction ---------------------------------------------------
+
+_SWEEP_DEFAULTS = {"blowup": {"taus": [0.0, 5.0, 10.0, 15.0, 20.0], "Ns": [64]},
+                   "chaos": {"taus": [10.0], "Ns": [4, 8, 16, 32, 64]}}
+
+
+def cmd_sweep(a):
+    from .ensemble import run_sweep
+    taus = getattr(a, "taus", None) or _SWEEP_DEFAULTS[a.kind]["taus"]
+    Ns = getattr(a, "Ns", None) or _SWEEP_DEFAULTS[a.kind]["Ns"]
+    opts = {k: v for k, v in (("dt", a.dt), ("rtol", a.rtol), ("atol", a.atol)) if v is not None}
+    if a.kind == "chaos" and a.samples is not None:
+        opts["n_samples"] = a.samples
+    elif a.samples is not None:
+        raise ValueError("--samples: only for --kind chaos")
+    work_dir = a.work_dir if a.work_dir else f"{a.out}.tasks"
+    out = run_sweep(a.kind, taus, Ns, a.realisations, t_max=a.t_max, work_dir=work_dir,
+                    out=a.out, model=a.model, alpha=a.alpha, first_seed=a.first_seed,
+                    method=a.method, workers=a.workers, scheduler=a.scheduler,
+                    progress=not a.json, **opts)
+    what = "blew_up" if a.kind == "blowup" else "chaotic"
+    summary = {"kind": a.kind, "out": out["out"], "work_dir": out["work_dir"],
+               "tasks": out["n_tasks"], "computed": out["computed"], "skipped": out["skipped"],
+               "failed": len(out["failed"]), "t_max": a.t_max,
+               f"fraction_{what}": [{"tau": r["tau"], "N": r["N"], "n": r["n"],
+                                     "fraction": r["fraction"]} for r in out["summary"]]}
+    if out["failed"]:
+        summary["failures"] = [f"N={t.N} tau={t.tau:g} seed={t.seed}: {msg}"
+                               for t, msg in out["failed"]]
+    _emit(summary, a.json)
+    return 1 if out["failed"] else 0
+
+
+def _coefficient_row(lat) -> dict:
+    from .reduction import two_mode_coefficients
+    c = two_mode_coefficients(lat)
+    w1, w2 = c.omega
+    row = {"tau": lat.tau, "A_tilde": c.A_tilde, "B_tilde": c.B_tilde}
+    row.update({f"A{i + 1}": float(x) for i, x in enumerate(c.A)})
+    row.update({f"B{i + 1}": float(x) for i, x in enumerate(c.B)})
+    row.update({f"a{i + 1}": float(x) for i, x in enumerate(c.a)})
+    row.update({f"b{i + 1}": float(x) for i, x in enumerate(c.b)})
+    row.update({"eps": c.eps, "omega1": w1, "omega2": w2})
+    return row
+
+
+def cmd_coefficients(a):
+    from .lattice import Lattice
+    rows = []
+    for tau in a.taus:
+        if a.model == "homogeneous":
+            if tau != 0:
+                raise ValueError("tau: the homogeneous model has no disorder")
+            lat = Lattice(a.N, a.alpha, a.model)
+        else:
+            lat = Lattice(a.N, a.alpha, a.model, tau=tau, seed=a.seed, disorder=a.disorder)
+        rows.append(_coefficient_row(lat))
+    head = {"N": a.N, "alpha": a.alpha, "model": a.model, "seed": a.seed, "disorder": a.disorder,
+            "note": "raw a_i, b_i: quadratic coefficients of Eq. (msvar), alpha included; "
+                    "paper-normalised A_i = a_i/eps, B_i = b_i/eps (eps = omega2 - 2 omega1), "
+                    "A_tilde = A3/(2 omega1), B_tilde = B1/(2 omega2)"}
+    if a.out:
+        names = ("a1", "a2", "a3", "b1", "b2", "b3")
+        _write_h5(a.out, {k: v for k, v in head.items()},
+                  {"tau": [r["tau"] for r in rows],
+                   "raw": [[r[n] for n in names] for r in rows],
+                   "A": [[r[f"A{i}"] for i in (1, 2, 3)] for r in rows],
+                   "B": [[r[f"B{i}"] for i in (1, 2, 3)] for r in rows],
+                   "A_tilde": [r["A_tilde"] for r in rows],
+                   "B_tilde": [r["B_tilde"] for r in rows]})
+        head["out"] = a.out
+    if len(rows) == 1:
+        _emit({**head, **rows[0]}, a.json)
+    else:
+        _emit({**head, "rows": rows}, a.json)
+    return 0
+
+
+def cmd_tauc(a):
+    from .reduction import critical_tolerance
+    tau = None
+    if a.fit_taus is not None:
+        tau = np.asarray(a.fit_taus, dtype=float)
+    tc = critical_tolerance(a.N, a.alpha, a.R, seed0=a.first_seed, kind=a.disorder, tau=tau)
+    s = tc.summary()
+    summary = {"N": a.N, "alpha": a.alpha, "disorder": a.disorder, "R": a.R,
+               "tau_c_exact": s["exact"], "tau_c_fit": s["fit"],
+               "tau_c_per_realisation": {k: s[k] for k in ("mean", "std", "q05", "median", "q95",
+                                                           "without_root")},
+               "fit_B_tilde": s["fit_B"], "fit_A_tilde": s["fit_A"],
+               "note": "exact: root of the closed-form E[B~](tau); fit: root of a quadratic fit "
+                       "to the R-realisation mean (the paper's method, 10.0749 %); "
+                       "per_realisation: each realisation's own B~(tau) = 0"}
+    _emit(summary, a.json)
+    return 0
+
+
+def cmd_bifurcation(a):
+    from .reduction import REGIONS, ReducedSystem, classify, r1_squared
+    r1sq = r1_squared(a.N)
+    rs = ReducedSystem(a.A_tilde, a.B_tilde, N=a.N)
+    lo, hi = rs.region()
+    eqs = []
+    for e in rs.equilibria():
+        lam = e.eigenvalues[0]
+        eqs.append({"j": e.j, "theta": e.theta, "delta": e.delta,
+                    "eigenvalues": [[lam.real + 0.0, lam.imag + 0.0], [-lam.real + 0.0, -lam.imag + 0.0]],
+                    "lambda_squared": (lam * lam).real, "type": e.kind,
+                    "well_defined": e.well_defined})
+    code = int(classify(a.A_tilde, a.B_tilde, r1sq))
+    summary = {"A_tilde": rs.A, "B_tilde": rs.B, "N": a.N, "r1_squared": r1sq, "k": rs.k,
+               "C": rs.C, "existence": rs.existence,
+               "well_defined_region": [lo if np.isfinite(lo) else str(lo),
+                                       hi if np.isfinite(hi) else str(hi)],
+               "region": code, "region_description": REGIONS[code], "equilibria": eqs}
+    if a.plot:
+        from .figures_reduction import fig7
+        summary["plot"] = fig7(a.plot, N=a.N)["path"]
+    _emit(summary, a.json)
+    return 0
+
+
+def _checkpoint_args(p):
+    p.add_argument("--checkpoint", help="checkpoint file (with --out): resume from it if it exists")
+    p.add_argument("--checkpoint-every", type=float, default=600.0, metavar="SECONDS",
+                   help="write a checkpoint every SECONDS of wall time (default 600)")
+    p.add_argument("--checkpoint-steps", type=int, default=None, metavar="K",
+                   help="also write one every K integrator steps")
+    p.add_argument("--restart", action="store_true",
+                   help="ignore an existing checkpoint and start from t = 0")
+
+
 def build_parser():
     p = argparse.ArgumentParser(prog="fputlab", description="Ordered and disordered FPUT lattices "
                                 "(paper: Energy-recurrence breakdown and chaos in disordered FPUT lattices).")
@@ -144,7 +324,8 @@ def build_parser():
     s.add_argument("--t-end", type=float, default=1e4)
     s.add_argument("--sample-every", type=float, default=None)
     s.add_argument("--states", action="store_true", help="also store the states")
-    s.add_argument("--out", help="HDF5 file to write")
+    s.add_argument("--out", help="HDF5 results file, written as the run goes (see docs/hdf5.md)")
+    _checkpoint_args(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_simulate)
 
@@ -169,9 +350,85 @@ def build_parser():
     s.add_argument("--realisations", type=int, default=1)
     s.add_argument("--Ns", type=int, nargs="+", default=[4, 8, 16, 32, 64])
     s.add_argument("--workers", type=int, default=None)
-    s.add_argument("--out")
+    s.add_argument("--out", help="HDF5 file (one orbit: written as the run goes, with checkpoints)")
+    _checkpoint_args(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_chaos)
+
+    s = sub.add_parser("sweep", help="realisation x tau x N ensemble (blow-up or chaos) on a local "
+                       "pool or a Dask cluster; resumable, merged into one HDF5 file",
+                       description="Each (tau, N, seed) is an independent task whose result is "
+                       "written to its own HDF5 file in --work-dir; rerunning skips finished "
+                       "tasks. All results are merged into --out (one row per task).")
+    s.add_argument("--kind", default="blowup", choices=["blowup", "chaos"],
+                   help="blowup: blow-up time up to --t-max; chaos: mLE/SALI up to --t-end "
+                        "(default blowup)")
+    s.add_argument("--taus", type=float, nargs="+", default=argparse.SUPPRESS,
+                   help="variabilities in percent (default: 0 5 10 15 20 for blowup, 10 for chaos)")
+    s.add_argument("--Ns", type=int, nargs="+", default=argparse.SUPPRESS,
+                   help="lattice sizes (default: 64 for blowup, 4 8 16 32 64 for chaos)")
+    s.add_argument("--realisations", type=int, default=30,
+                   help="disorder realisations per (tau, N) (default 30, as Fig. 14)")
+    s.add_argument("--first-seed", type=int, default=1, help="seeds first..first+R-1 (default 1)")
+    s.add_argument("--t-max", "--t-end", dest="t_max", type=float, default=1e4,
+                   help="final time of every task (default 1e4)")
+    s.add_argument("--model", default="nonlinear", choices=["homogeneous", "hamiltonian", "nonlinear"],
+                   help="lattice model (default nonlinear)")
+    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
+    s.add_argument("--method", default=None, help="integrator (default yoshida4)")
+    s.add_argument("--dt", type=float, default=None, help="fixed step (default 0.01)")
+    s.add_argument("--rtol", type=float, default=None)
+    s.add_argument("--atol", type=float, default=None)
+    s.add_argument("--samples", type=int, default=None,
+                   help="chaos: log-spaced samples of mLE(t), SALI(t) (default 200)")
+    s.add_argument("--out", default="sweep.h5", help="merged HDF5 file (default sweep.h5)")
+    s.add_argument("--work-dir", default=None,
+                   help="per-task result files (default OUT.tasks/); reused to resume")
+    s.add_argument("--scheduler", default=None,
+                   help="Dask scheduler address tcp://host:port (default: local processes)")
+    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("coefficients", help="two-mode coefficients a_i, b_i (raw) and A_i, B_i, "
+                       "A~, B~ (paper-normalised) of one realisation or over --taus")
+    s.add_argument("--N", type=int, default=64, help="particles (default 64)")
+    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
+    s.add_argument("--model", default="nonlinear", choices=["homogeneous", "hamiltonian", "nonlinear"],
+                   help="lattice model (default nonlinear)")
+    s.add_argument("--tau", type=float, default=0.0, help="variability in percent (default 0)")
+    s.add_argument("--taus", type=float, nargs="+", default=None,
+                   help="several variabilities (same seed, hence the same draws z)")
+    s.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
+    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    s.add_argument("--out", help="HDF5 file to write")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_coefficients)
+
+    s = sub.add_parser("tauc", help="critical variability tau_c (B~ = 0) three ways: exact "
+                       "expectation, quadratic fit (the paper's), per realisation")
+    s.add_argument("--N", type=int, default=64, help="particles (default 64)")
+    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
+    s.add_argument("--R", "--realisations", dest="R", type=int, default=100,
+                   help="realisations (default 100, as the paper)")
+    s.add_argument("--first-seed", type=int, default=1, help="seeds first..first+R-1 (default 1)")
+    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    s.add_argument("--fit-taus", type=float, nargs="+", default=None,
+                   help="tau grid of the fit (default 0, 0.5, ..., 20)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_tauc)
+
+    s = sub.add_parser("bifurcation", help="reduced (P, Delta, theta) system at (A~, B~): C, "
+                       "equilibria Delta_1, Delta_2, theta, eigenvalues and their type")
+    s.add_argument("--A-tilde", dest="A_tilde", type=float, default=3.62805,
+                   help="A~ (default 3.62805, tau = 0)")
+    s.add_argument("--B-tilde", dest="B_tilde", type=float, default=0.90728,
+                   help="B~ (default 0.90728, tau = 0)")
+    s.add_argument("--N", type=int, default=64,
+                   help="particles: r_1^2 = (N+1)/8 of the paper's initial state (default 64)")
+    s.add_argument("--plot", help="PNG of the (A~, B~) bifurcation diagram (Fig. 7)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_bifurcation)
 
     s = sub.add_parser("figures", help="regenerate the paper's figures as PNGs")
     s.add_argument("--out", default="figures", help="output directory (default figures/)")

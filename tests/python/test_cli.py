@@ -4,6 +4,7 @@ import json
 import h5py
 import numpy as np
 
+import fputlab
 from fputlab.cli import main
 
 
@@ -11,11 +12,52 @@ def test_simulate_writes_hdf5(tmp_path, capsys):
     out = tmp_path / "run.h5"
     assert main(["simulate", "--N", "16", "--t-end", "50", "--out", str(out), "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
-    assert summary["completed"] and summary["samples"] == 1001
+    assert summary["status"] == "completed" and summary["samples"] == 1001
     with h5py.File(out) as f:
-        assert f.attrs["N"] == 16 and f.attrs["model"] == "nonlinear"
+        assert f.attrs["N"] == 16 and f.attrs["model"] == 3
+        assert f.attrs["model_name"] == b"nonlinear" and f.attrs["status"] == b"completed"
         assert f["mode_energies"].shape == (1001, 16)
         assert np.all(np.isfinite(f["mode_energies"][...]))
+    ref = fputlab.Lattice(16, 0.25, "nonlinear", tau=10, seed=1).integrate(50.0, sample_every=0.05)
+    np.testing.assert_allclose(fputlab.load(out).mode_energies, ref.mode_energies, rtol=1e-12,
+                               atol=1e-18)
+
+
+def test_simulate_checkpoint_and_resume(tmp_path, capsys):
+    out, ck = str(tmp_path / "run.h5"), str(tmp_path / "run.ckpt")
+    args = ["simulate", "--N", "8", "--t-end", "200", "--sample-every", "1", "--out", out,
+            "--checkpoint", ck, "--checkpoint-steps", "5000", "--json"]
+    assert main(args) == 0
+    first = json.loads(capsys.readouterr().out)
+    assert first["checkpoints_written"] >= 4 and first["resumed_from"] is None
+    t_ck, steps = fputlab.io.checkpoint_time(ck)
+    assert t_ck == 200.0 and steps == 20000
+    assert main(args) == 0                       # finished: resumes at the end, nothing to do
+    again = json.loads(capsys.readouterr().out)
+    assert again["resumed_from"] == 200.0 and again["samples"] == 201
+    assert main(["simulate", "--N", "8", "--seed", "2", "--t-end", "200", "--out", out,
+                 "--checkpoint", ck]) == 2
+    assert "v differs" in capsys.readouterr().err
+    assert main(["simulate", "--checkpoint", ck]) == 2
+    assert "--checkpoint needs --out" in capsys.readouterr().err
+
+
+def test_chaos_out_writes_the_indicators(tmp_path, capsys):
+    out = str(tmp_path / "chaos.h5")
+    assert main(["chaos", "--N", "8", "--model", "homogeneous", "--t-end", "500", "--samples", "20",
+                 "--out", out, "--checkpoint", str(tmp_path / "c.ckpt"), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    direct = fputlab.chaos.lyapunov(fputlab.Lattice(8, 0.25), 500.0, n_samples=20)
+    r = fputlab.load(out)
+    np.testing.assert_array_equal(r.chaos["mle"], direct.mle)
+    assert summary["mle"] == direct.mle_final and summary["status"] == "completed"
+
+
+def test_ensembles_refuse_options_they_cannot_honour(capsys):
+    assert main(["blowup", "--taus", "10", "20", "--beta", "0.5"]) == 2
+    assert "--beta" in capsys.readouterr().err
+    assert main(["chaos", "--realisations", "3", "--disorder", "uniform"]) == 2
+    assert "--disorder" in capsys.readouterr().err
 
 
 def test_blowup_and_chaos_json(capsys):

@@ -1,0 +1,429 @@
+"""Ensembles beyond one machine: realisation x tau x N sweeps of blow-up times or chaos indicators
+run as independent tasks, on a local process pool or on a Dask cluster, resumable from a work
+directory of per-task HDF5 files, merged into one HDF5 file at the end.
+
+    >>> from fputlab.ensemble import run_sweep, load_sweep
+    >>> out = run_sweep("blowup", taus=[10, 20], Ns=[64], realisations=50, t_max=1e4,
+    ...                 work_dir="sweep.d", out="sweep.h5")                  # all local cores
+    >>> out = run_sweep("chaos", [10], [8, 16], 30, t_max=1e6, work_dir="c.d", out="c.h5",
+    ...                 scheduler="tcp://10.0.0.1:8786")                      # a Dask cluster
+    >>> load_sweep("sweep.h5")["blew_up"]
+
+Each task (kind, N, tau, seed) is one disorder realisation `Lattice(N, alpha, model, tau=tau,
+seed=seed)`; seeds are first_seed .. first_seed + realisations - 1, the same for every tau and N.
+The task's result travels back to the client, which writes it to
+`work_dir/<kind>_N<N>_tau<tau>_seed<seed>_<hash>.h5` (temporary name, then os.replace), so the
+work directory need not be shared with remote workers; <hash> identifies the sweep-wide
+parameters (model, alpha, t_max, method, task options). Running the same sweep again skips every
+task whose file exists and reads back; a task that raised is reported and not written, so the next
+run retries it.
+"""
+from __future__ import annotations
+
+import hashlib
+import inspect
+import json
+import math
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: kinds of task
+KINDS = ("blowup", "chaos")
+#: scalar outcome columns of each kind (name -> numpy dtype); "criterion"/"classification" are str
+COLUMNS = {
+    "blowup": {"blew_up": bool, "time": float, "criterion": str, "t_reached": float,
+               "tau_c": float},
+    "chaos": {"mle": float, "sali": float, "classification": str, "t_final": float,
+              "chaotic": bool, "t_chaotic": float, "steps": np.int64, "completed": bool},
+}
+#: per-task series of the chaos kind (stored as 2-D datasets, NaN-padded, in the merged file)
+SERIES = {"chaos": ("t", "mle_t", "sali_t")}
+
+_FORMAT = "fputlab-ensemble-task-1"
+
+
+@dataclass(frozen=True)
+class Task:
+    """One realisation: the unit of work."""
+    kind: str
+    N: int
+    tau: float
+    seed: int
+
+    def stem(self, key: str) -> str:
+        return f"{self.kind}_N{self.N}_tau{self.tau!r}_seed{self.seed}_{key}"
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """What every task of a sweep shares."""
+    kind: str
+    model: str
+    alpha: float
+    t_max: float
+    method: str
+    options: tuple          # sorted (name, value) pairs passed to blowup_time / lyapunov
+
+    def key(self) -> str:
+        """Short hash of the shared parameters: part of every task file name."""
+        text = json.dumps({"kind": self.kind, "model": self.model, "alpha": self.alpha,
+                           "t_max": self.t_max, "method": self.method,
+                           "options": self.options}, sort_keys=True, default=_jsonable)
+        return hashlib.sha256(text.encode()).hexdigest()[:10]
+
+
+def _jsonable(x):
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, np.generic):
+        return x.item()
+    return repr(x)
+
+
+# ---- one task (runs in a worker process) ------------------------------------------------------
+
+class TaskFailed(RuntimeError):
+    """A task raised: the message is "<exception type>: <message>" (plain, hence picklable, so it
+    crosses process and machine boundaries where e.g. IntegrationError(.., result) does not)."""
+
+
+def run_task(task: Task, spec: SweepSpec) -> dict:
+    """Compute one task (see `_compute`); any exception becomes a TaskFailed."""
+    try:
+        return _compute(task, spec)
+    except Exception as err:
+        raise TaskFailed(f"{type(err).__name__}: {err}") from None
+
+
+def _compute(task: Task, spec: SweepSpec) -> dict:
+    """Compute one task; returns its record {kind, N, tau, seed, <outcome columns>, [series]}.
+
+    blowup: fputlab.blowup.blowup_time and the realisation's own two-mode tau_c
+    (fputlab.blowup.realisation_tau_c), i.e. what blowup_sweep's per-task function computes, plus
+    the criterion and the time reached. chaos: fputlab.chaos's per-task function
+    (`_one_realisation`, as chaotic_fraction) and ChaosResult.classify()."""
+    from .lattice import Lattice
+    opts = dict(spec.options)
+    rec: dict[str, Any] = {"kind": task.kind, "N": task.N, "tau": task.tau, "seed": task.seed}
+    if task.kind == "blowup":
+        from .blowup import blowup_time, realisation_tau_c
+        lat = Lattice(task.N, spec.alpha, spec.model, tau=task.tau, seed=task.seed)
+        res = blowup_time(lat, spec.t_max, method=spec.method, **opts)
+        tau_c = (realisation_tau_c(task.N, task.seed, spec.alpha)
+                 if spec.model != "homogeneous" else float("nan"))
+        rec.update(blew_up=bool(res.blew_up), time=float(res.time), criterion=res.criterion,
+                   t_reached=float(res.t_reached), tau_c=float(tau_c))
+    elif task.kind == "chaos":
+        from .chaos import _one_realisation
+        _, _, res = _one_realisation((task.N, task.tau, task.seed, spec.model, spec.alpha,
+                                      spec.t_max, spec.method, opts))
+        rec.update(mle=res.mle_final, sali=float(res.sali[-1]) if res.sali.size else float("nan"),
+                   classification=res.classify(), t_final=float(res.t_final),
+                   chaotic=bool(res.chaotic), t_chaotic=float(res.t_chaotic),
+                   steps=int(res.steps), completed=bool(res.completed),
+                   t=np.asarray(res.t, float), mle_t=np.asarray(res.mle, float),
+                   sali_t=np.asarray(res.sali, float))
+    else:
+        raise ValueError(f"kind {task.kind!r} is unknown (known: {', '.join(KINDS)})")
+    return rec
+
+
+# ---- per-task files ---------------------------------------------------------------------------
+
+def _write_atomic(path: Path, fill) -> None:
+    """Write an HDF5 file under a temporary name in the same directory, then os.replace it."""
+    import h5py
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with h5py.File(tmp, "w") as f:
+            fill(f)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def _write_task(path: Path, rec: dict, spec: SweepSpec, key: str) -> None:
+    from . import __version__
+
+    def fill(f):
+        f.attrs["format"] = _FORMAT
+        f.attrs["sweep_key"] = key
+        f.attrs["fputlab_version"] = __version__
+        for name in ("kind", "N", "tau", "seed", *COLUMNS[rec["kind"]]):
+            f.attrs[name] = rec[name]
+        for name in SERIES.get(rec["kind"], ()):
+            f.create_dataset(name, data=rec[name])
+    _write_atomic(path, fill)
+
+
+def _read_task(path: Path, task: Task, key: str) -> dict | None:
+    """The task's record if its file exists, reads back and belongs to this task; else None."""
+    import h5py
+    if not path.is_file():
+        return None
+    try:
+        with h5py.File(path, "r") as f:
+            a = f.attrs
+            if a.get("format") != _FORMAT or a.get("sweep_key") != key:
+                return None
+            rec: dict[str, Any] = {"kind": str(a["kind"]), "N": int(a["N"]),
+                                   "tau": float(a["tau"]), "seed": int(a["seed"])}
+            if (rec["kind"], rec["N"], rec["tau"], rec["seed"]) != \
+                    (task.kind, task.N, task.tau, task.seed):
+                return None
+            for name, dt in COLUMNS[task.kind].items():
+                v = a[name]
+                rec[name] = str(v) if dt is str else dt(v) if dt is not np.int64 else int(v)
+            for name in SERIES.get(task.kind, ()):
+                rec[name] = f[name][...].astype(float)
+        return rec
+    except (OSError, KeyError, ValueError, TypeError):
+        return None
+
+
+# ---- validation -------------------------------------------------------------------------------
+
+def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, method, workers,
+              task_options) -> tuple[list[float], list[int], int, SweepSpec]:
+    from .integrate import method_info
+    from .lattice import MODELS
+    if kind not in KINDS:
+        raise ValueError(f"kind {kind!r} is unknown (known: {', '.join(KINDS)})")
+    try:
+        taus = [float(t) for t in np.atleast_1d(np.asarray(taus, dtype=float))]
+    except (TypeError, ValueError):
+        raise ValueError(f"taus must be numbers (got {taus!r})") from None
+    if not taus:
+        raise ValueError("taus must not be empty")
+    if not all(math.isfinite(t) and t >= 0 for t in taus):
+        raise ValueError(f"taus must be finite and >= 0 (got {taus})")
+    try:
+        Ns_arr = np.atleast_1d(np.asarray(Ns))
+        if Ns_arr.size and not np.all(np.equal(np.mod(Ns_arr.astype(float), 1), 0)):
+            raise ValueError
+        Ns = [int(n) for n in Ns_arr]
+    except (TypeError, ValueError):
+        raise ValueError(f"Ns must be integers (got {Ns!r})") from None
+    if not Ns:
+        raise ValueError("Ns must not be empty")
+    if min(Ns) < 2:
+        raise ValueError(f"Ns must all be >= 2 (got {Ns})")
+    if isinstance(realisations, bool) or not isinstance(realisations, (int, np.integer)):
+        raise ValueError(f"realisations must be an integer (got {realisations!r})")
+    if realisations < 1:
+        raise ValueError(f"realisations must be >= 1 (got {realisations})")
+    try:
+        t_max = float(t_max)
+    except (TypeError, ValueError):
+        raise ValueError(f"t_max must be a number (got {t_max!r})") from None
+    if not (math.isfinite(t_max) and t_max > 0):
+        raise ValueError(f"t_max must be finite and > 0 (got {t_max:g})")
+    if model not in MODELS:
+        raise ValueError(f"model {model!r} is unknown (known: {', '.join(MODELS)})")
+    if model == "homogeneous" and any(t != 0 for t in taus):
+        raise ValueError("taus: the homogeneous model has no disorder (use taus=[0])")
+    alpha = float(alpha)
+    if not math.isfinite(alpha):
+        raise ValueError(f"alpha must be finite (got {alpha})")
+    if isinstance(first_seed, bool) or not isinstance(first_seed, (int, np.integer)) \
+            or first_seed < 0:
+        raise ValueError(f"first_seed must be an integer >= 0 (got {first_seed!r})")
+    if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
+        raise ValueError(f"workers must be an integer >= 1 (got {workers!r})")
+    method = "yoshida4" if method is None else method
+    if not isinstance(method, str):
+        raise ValueError(f"method must be a string (got {method!r})")
+    method_info(method)                       # raises ValueError naming an unknown method
+    from .blowup import blowup_time
+    from .chaos import lyapunov
+    fn = blowup_time if kind == "blowup" else lyapunov
+    allowed = set(inspect.signature(fn).parameters) - {"lattice", "t_max", "t_end", "method"}
+    for name in task_options:
+        if name not in allowed:
+            raise ValueError(f"{name}: not an option of {kind} tasks "
+                             f"(known: {', '.join(sorted(allowed))})")
+    spec = SweepSpec(kind, model, alpha, t_max, method, tuple(sorted(task_options.items())))
+    return taus, Ns, int(realisations), spec
+
+
+# ---- engines ----------------------------------------------------------------------------------
+
+def _dask_client(scheduler):
+    """(client, owned): a Client for an address, a Client as given, or one for a Cluster."""
+    from dask.distributed import Client
+    if isinstance(scheduler, Client):
+        return scheduler, False
+    if isinstance(scheduler, str):
+        return Client(scheduler), True
+    if hasattr(scheduler, "scheduler_address"):          # a LocalCluster, SLURMCluster, ...
+        return Client(scheduler), True
+    raise ValueError(f"scheduler must be an address 'tcp://host:port', a dask.distributed.Client "
+                     f"or a cluster (got {type(scheduler).__name__})")
+
+
+def _run_local(todo, spec, workers):
+    pool = ProcessPoolExecutor(max_workers=workers)
+    try:
+        futs = {pool.submit(run_task, t, spec): t for t in todo}
+        for fut in as_completed(futs):
+            err = fut.exception()
+            yield futs[fut], (None if err else fut.result()), err
+    finally:                                  # on an interrupt, drop the tasks not started
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_dask(todo, spec, scheduler):
+    from dask.distributed import as_completed as dask_as_completed
+    client, owned = _dask_client(scheduler)
+    key = spec.key()
+    try:
+        futs = {client.submit(run_task, t, spec, key=f"fputlab-{t.stem(key)}"): t for t in todo}
+        for fut in dask_as_completed(list(futs)):
+            try:
+                yield futs[fut], fut.result(), None
+            except Exception as err:          # the task's own exception, re-raised by Dask
+                yield futs[fut], None, err
+            finally:
+                fut.release()
+    finally:
+        if owned:
+            client.close()
+
+
+# ---- the sweep --------------------------------------------------------------------------------
+
+def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir, out,
+              model: str = "nonlinear", alpha: float = 0.25, first_seed: int = 1,
+              method: str | None = None, workers: int | None = None, scheduler=None,
+              progress: bool = True, **task_options) -> dict:
+    """Run every (tau, N, seed) task of a sweep that has no result in `work_dir` yet, then merge
+    all results into the HDF5 file `out` (one row per task, in the order tau, N, seed).
+
+    kind: "blowup" (fputlab.blowup.blowup_time up to t_max) or "chaos" (fputlab.chaos.lyapunov
+    up to t_end = t_max). method: integrator (default "yoshida4"). workers: local processes
+    (default all cores). scheduler: a Dask scheduler address "tcp://host:port", a
+    dask.distributed.Client or a cluster object; then Dask runs the tasks instead of the local
+    pool. task_options go to blowup_time / lyapunov (e.g. dt, rtol, n_samples).
+
+    Returns {"out", "work_dir", "n_tasks", "computed", "skipped", "failed" [(task, message)],
+    "records" [dict per task], "summary" [{"tau", "N", "n", "fraction"}]} where fraction is the
+    share that blew up (blowup) or was classified chaotic (chaos)."""
+    taus, Ns, realisations, spec = _validate(kind, taus, Ns, realisations, t_max, model, alpha,
+                                             first_seed, method, workers, task_options)
+    if work_dir is None or out is None:
+        raise ValueError("work_dir and out are required")
+    work = Path(work_dir)
+    work.mkdir(parents=True, exist_ok=True)
+    key = spec.key()
+    tasks = [Task(kind, N, tau, int(first_seed) + r)
+             for tau in taus for N in Ns for r in range(realisations)]
+    if len(set(tasks)) != len(tasks):
+        raise ValueError("taus and Ns must not repeat values")
+    records: dict[Task, dict] = {}
+    for t in tasks:
+        rec = _read_task(work / f"{t.stem(key)}.h5", t, key)
+        if rec is not None:
+            records[t] = rec
+    skipped = len(records)
+    todo = [t for t in tasks if t not in records]
+    failed: list[tuple[Task, str]] = []
+    if todo:
+        from tqdm import tqdm
+        bar = tqdm(total=len(todo), desc=f"{kind} sweep", unit="task",
+                   disable=None if progress else True)
+        bar.set_postfix(skipped=skipped)
+        engine = (_run_local(todo, spec, workers) if scheduler is None
+                  else _run_dask(todo, spec, scheduler))
+        try:
+            for task, rec, err in engine:
+                if err is not None:
+                    failed.append((task, str(err) if isinstance(err, TaskFailed)
+                                   else f"{type(err).__name__}: {err}"))
+                else:
+                    _write_task(work / f"{task.stem(key)}.h5", rec, spec, key)
+                    records[task] = rec
+                bar.update(1)
+        finally:
+            bar.close()
+    order = {t: i for i, t in enumerate(tasks)}
+    failed.sort(key=lambda f: order[f[0]])
+    done = [records[t] for t in tasks if t in records]
+    params = {"kind": kind, "taus": np.array(taus), "Ns": np.array(Ns),
+              "realisations": realisations, "t_max": spec.t_max, "model": model,
+              "alpha": spec.alpha, "first_seed": int(first_seed), "method": spec.method,
+              "task_options": json.dumps(dict(spec.options), sort_keys=True, default=_jsonable),
+              "sweep_key": key, "n_tasks": len(tasks), "n_failed": len(failed)}
+    _write_merged(Path(out), kind, done, params)
+    return {"out": str(out), "work_dir": str(work), "n_tasks": len(tasks),
+            "computed": len(todo) - len(failed), "skipped": skipped,
+            "failed": [(t, msg) for t, msg in failed], "records": done,
+            "summary": _summary(kind, done, taus, Ns)}
+
+
+def _summary(kind: str, records: list[dict], taus, Ns) -> list[dict]:
+    rows = []
+    for tau in taus:
+        for N in Ns:
+            sel = [r for r in records if r["tau"] == tau and r["N"] == N]
+            hit = [r["blew_up"] if kind == "blowup" else r["classification"] == "chaotic"
+                   for r in sel]
+            rows.append({"tau": tau, "N": N, "n": len(sel),
+                         "fraction": float(np.mean(hit)) if hit else float("nan")})
+    return rows
+
+
+def _write_merged(path: Path, kind: str, records: list[dict], params: dict) -> None:
+    import h5py
+    from . import __version__
+    path.parent.mkdir(parents=True, exist_ok=True)
+
+    def fill(f):
+        f.attrs["fputlab_version"] = __version__
+        for k, v in params.items():
+            f.attrs[k] = v
+        strs = h5py.string_dtype()
+        f.create_dataset("kind", data=[r["kind"] for r in records], dtype=strs)
+        f.create_dataset("N", data=np.array([r["N"] for r in records], dtype=np.int64))
+        f.create_dataset("tau", data=np.array([r["tau"] for r in records], dtype=float))
+        f.create_dataset("seed", data=np.array([r["seed"] for r in records], dtype=np.int64))
+        for name, dt in COLUMNS[kind].items():
+            col = [r[name] for r in records]
+            if dt is str:
+                f.create_dataset(name, data=col, dtype=strs)
+            else:
+                f.create_dataset(name, data=np.array(col, dtype=dt))
+        for name in SERIES.get(kind, ()):
+            width = max((r[name].size for r in records), default=0)
+            arr = np.full((len(records), width), np.nan)
+            for i, r in enumerate(records):
+                arr[i, :r[name].size] = r[name]
+            f.create_dataset(name, data=arr)
+        if kind in SERIES:
+            f.create_dataset("n_samples", data=np.array([r["t"].size for r in records],
+                                                         dtype=np.int64))
+    _write_atomic(path, fill)
+
+
+def load_sweep(path) -> dict:
+    """A merged sweep file as {column: array} plus "attrs" (the sweep parameters and
+    fputlab_version). String columns come back as str arrays; the chaos series t, mle_t, sali_t
+    are (n_tasks, n_samples) arrays padded with NaN (row i has n_samples[i] values)."""
+    import h5py
+    out: dict[str, Any] = {}
+    with h5py.File(path, "r") as f:
+        attrs = {}
+        for k, v in f.attrs.items():
+            attrs[k] = v.decode() if isinstance(v, bytes) else v
+        out["attrs"] = attrs
+        for name, ds in f.items():
+            if h5py.check_string_dtype(ds.dtype) is not None:
+                out[name] = np.array(ds.asstr()[...], dtype=str)
+            else:
+                out[name] = ds[...]
+    return out

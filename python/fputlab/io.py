@@ -1,0 +1,469 @@
+"""Runs that last: HDF5 results written incrementally by the C core, atomic checkpoints, restart.
+
+    >>> lat = fputlab.Lattice(64, 0.25, "nonlinear", tau=10, seed=1)
+    >>> fputlab.io.simulate_to_file(lat, 1e6, "run.h5", checkpoint="run.ckpt")   # kill it ...
+    >>> fputlab.io.simulate_to_file(lat, 1e6, "run.h5", checkpoint="run.ckpt")   # ... it goes on
+    >>> res = fputlab.load("run.h5"); res.t, res.mode_energies
+
+The results file never holds more than one chunk of samples in memory; a checkpoint (step
+count, time, state with deviation vectors, chaos accumulators) is written every
+`checkpoint_every_steps` steps or `checkpoint_every_seconds` seconds, atomically, and on
+SIGINT/SIGTERM before stopping. Restarting from it continues bit for bit (fixed-step methods):
+the final files equal those of an uninterrupted run. The schema is in docs/hdf5.md."""
+from __future__ import annotations
+
+import math
+import os
+import signal
+import threading
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._arrays import as_float_array, ptr
+from ._errors import FputlabError, check
+from ._native import ffi, lib
+from .integrate import Integrator, method_info
+from .lattice import Lattice, _int, _real
+
+#: how a run ended, as written to the file's `status` attribute
+STATUSES = ("running", "completed", "event", "failed", "interrupted")
+
+
+class _RunInfo:
+    """fpl_run_info with the C strings it points to kept alive."""
+
+    def __init__(self, lattice: Lattice, kind: str, method: str, integ: Integrator | None,
+                 t0: float, n_dev: int, store_states: bool = False, chunk_rows: int = 0):
+        self._keep = []
+        self.c = ffi.new("fpl_run_info *")
+        lib.fpl_run_info_init(self.c)
+        self.c.kind = self._str(kind)
+        self.c.method = self._str(method)
+        adaptive = method_info(method)["adaptive"]
+        if integ is not None:
+            self.c.dt = float("nan") if adaptive else integ.dt
+            self.c.rtol = integ.rtol if adaptive else float("nan")
+            self.c.atol = integ.atol if adaptive else float("nan")
+        self.c.t0 = t0
+        self.c.n_dev = n_dev
+        self.c.tau = float("nan") if lattice.tau is None else lattice.tau
+        self.c.seed = -1 if lattice.seed is None else int(lattice.seed)
+        self.c.disorder = self._str(lattice.disorder or ("user" if lattice.tau is None and
+                                                         lattice.model != "homogeneous" else ""))
+        self.c.store_states = int(bool(store_states))
+        self.c.chunk_rows = chunk_rows
+
+    def _str(self, s: str):
+        b = ffi.new("char[]", s.encode())
+        self._keep.append(b)
+        return b
+
+
+class ResultsFile:
+    """A results file being written (C `fpl_results`); use as a context manager."""
+
+    def __init__(self, path, lattice: Lattice, info: _RunInfo, *, resume_at: float | None = None):
+        self.path, self.lattice, self._info = os.fspath(path), lattice, info
+        out = ffi.new("fpl_results **")
+        if resume_at is None:
+            check(lib.fpl_results_create(self.path.encode(), lattice._h, info.c, out))
+        else:
+            check(lib.fpl_results_resume(self.path.encode(), lattice._h, info.c,
+                                         _real(resume_at, "resume_at"), out))
+        self._h = out[0]
+
+    def _check(self, status):
+        return check(status)
+
+    @property
+    def count(self) -> int:
+        return int(lib.fpl_results_count(self._h))
+
+    def append(self, t: float, y: np.ndarray) -> None:
+        self._check(lib.fpl_results_append(self._h, float(t), ptr(y)))
+
+    def append_chaos(self, t: float, mle: float, sali: float, gali: float) -> None:
+        self._check(lib.fpl_results_append_chaos(self._h, float(t), mle, sali, gali))
+
+    def set_status(self, status: str, message: str = "") -> None:
+        self._check(lib.fpl_results_set_status(self._h, status.encode(), message.encode()))
+
+    def set_event(self, t: float, criterion: str) -> None:
+        self._check(lib.fpl_results_set_event(self._h, float(t), criterion.encode()))
+
+    def flush(self) -> None:
+        self._check(lib.fpl_results_flush(self._h))
+
+    def close(self) -> None:
+        if self._h is not None:
+            h = ffi.new("fpl_results **", self._h)
+            self._h = None
+            check(lib.fpl_results_close(h))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def write_checkpoint(path, integ_handle, info: _RunInfo, extra=()) -> None:
+    """Write a checkpoint of the C integrator `integ_handle` atomically."""
+    ex = np.ascontiguousarray(extra, dtype=np.float64)
+    check(lib.fpl_checkpoint_write(os.fspath(path).encode(), integ_handle, info.c,
+                                   ptr(ex) if ex.size else ffi.NULL, ex.size))
+
+
+def load_checkpoint(path, integ_handle, info: _RunInfo, max_extra: int = 0) -> np.ndarray:
+    """Validate the checkpoint against the run and restore the integrator; returns the
+    accumulators. Mismatch -> ValueError, unreadable/corrupt -> OSError; the file is only read."""
+    ex = np.empty(max(max_extra, 1))
+    n = ffi.new("int *")
+    check(lib.fpl_checkpoint_load(os.fspath(path).encode(), integ_handle, info.c, ptr(ex),
+                                  max_extra, n))
+    return ex[:n[0]].copy()
+
+
+def checkpoint_time(path) -> tuple[float, int]:
+    """(t, step count) stored in a checkpoint."""
+    t, n = ffi.new("double *"), ffi.new("long *")
+    check(lib.fpl_checkpoint_peek(os.fspath(path).encode(), t, n))
+    return t[0], int(n[0])
+
+
+class _Stopper:
+    """SIGINT/SIGTERM set a flag; the run writes a checkpoint and stops at the next segment."""
+
+    def __init__(self):
+        self.signum = None
+        self._old = {}
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            for s in (signal.SIGINT, signal.SIGTERM):
+                self._old[s] = signal.signal(s, self._handle)
+        return self
+
+    def _handle(self, signum, frame):
+        self.signum = signum
+
+    def __exit__(self, *exc):
+        for s, h in self._old.items():
+            signal.signal(s, h)
+
+
+@dataclass
+class RunSummary:
+    """How a file-backed run ended."""
+    status: str                 # completed, event, failed, interrupted
+    t_reached: float
+    samples: int
+    resumed_from: float | None  # checkpoint time the run continued from (None: fresh start)
+    checkpoints: int            # checkpoints written by this call
+    message: str = ""
+    event: dict | None = None
+    path: str = ""
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def interrupted(self) -> bool:
+        return self.status == "interrupted"
+
+
+def _check_every(steps, seconds):
+    if steps is not None:
+        steps = _int(steps, "checkpoint_every_steps")
+        if steps < 1:
+            raise ValueError(f"checkpoint_every_steps must be >= 1 (got {steps})")
+    if seconds is not None:
+        seconds = _real(seconds, "checkpoint_every_seconds")
+        if not (seconds > 0):
+            raise ValueError(f"checkpoint_every_seconds must be > 0 (got {seconds:g})")
+    return steps, seconds
+
+
+def _progress(total, desc, enabled, initial=0.0):
+    if not enabled:
+        return None
+    from tqdm import tqdm
+    return tqdm(total=total, initial=initial, desc=desc, unit="t", disable=None,
+                bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
+
+
+def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida4",
+                     dt: float | None = None, rtol: float = 1e-10, atol: float = 1e-12,
+                     sample_every: float | None = None, y0=None, deviations=None,
+                     store_states: bool = False, stop_on=None, checkpoint=None,
+                     checkpoint_every_steps: int | None = None,
+                     checkpoint_every_seconds: float | None = 600.0, resume: bool = True,
+                     chunk_rows: int = 256, progress: bool = False,
+                     max_steps_per_segment: int = 100_000) -> RunSummary:
+    """Integrate from t = 0 to t_end, writing samples (t, mode energies, energy, optionally the
+    states) to the HDF5 file `out` as the run goes.
+
+    With `checkpoint` (a path), a checkpoint is written every `checkpoint_every_steps` steps
+    and/or `checkpoint_every_seconds` seconds, at the end, and on SIGINT/SIGTERM (then the run
+    stops with status "interrupted"). If the checkpoint exists and `resume`, the run continues
+    from it (after checking it belongs to this lattice, method and options) and `out` is
+    truncated to the checkpoint's time. stop_on: stopping criteria as in fputlab.integrate."""
+    if not isinstance(lattice, Lattice):
+        raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
+    t_end = _real(t_end, "t_end")
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
+    adaptive = method_info(method)["adaptive"]
+    if dt is None and not adaptive:
+        dt = 0.01
+    every = t_end / 1000 if sample_every is None else _real(sample_every, "sample_every")
+    if not (math.isfinite(every) and every > 0):
+        raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
+    k_steps, k_seconds = _check_every(checkpoint_every_steps, checkpoint_every_seconds)
+    N = lattice.N
+    orbit = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * N,))
+    state0 = orbit[None, :] if deviations is None else np.concatenate(
+        [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
+    n_samples = int(math.floor(t_end / every * (1 + 1e-12))) + 1
+    sample_t = lambda i: min(i * every, t_end)
+
+    from .blowup import set_criteria
+    set_criteria(lattice, stop_on)
+    try:
+        integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol)
+        integ.rtol, integ.atol = rtol, atol
+        info = _RunInfo(lattice, "simulate", method, integ, 0.0, integ.n_dev, store_states, chunk_rows)
+        resumed = None
+        if checkpoint is not None and resume and os.path.exists(checkpoint):
+            load_checkpoint(checkpoint, integ._h, info)
+            resumed = integ.t
+            results = ResultsFile(out, lattice, info, resume_at=resumed)
+        else:
+            results = ResultsFile(out, lattice, info)
+        seg = math.inf if adaptive else max_steps_per_segment * dt
+        summary = RunSummary("completed", integ.t, 0, resumed, 0, path=os.fspath(out))
+        with results, _Stopper() as stopper:
+            bar = _progress(t_end, f"simulate N={N}", progress, integ.t)
+            last_ck_steps, last_ck_time = integ.steps, time.monotonic()
+
+            def save():
+                results.flush()
+                write_checkpoint(checkpoint, integ._h, info)
+                summary.checkpoints += 1
+
+            i = results.count
+            try:
+                while i < n_samples:
+                    target = sample_t(i)
+                    # long gaps between samples go in segments (checkpoints, signals, progress);
+                    # fixed-step grid states do not depend on where a run pauses
+                    while target - integ.t > seg and stopper.signum is None:
+                        integ.advance(integ.t + seg)
+                        if bar is not None:
+                            bar.update(integ.t - bar.n)
+                        if checkpoint is not None and (
+                                (k_steps and integ.steps - last_ck_steps >= k_steps) or
+                                (k_seconds and time.monotonic() - last_ck_time >= k_seconds)):
+                            save()
+                            last_ck_steps, last_ck_time = integ.steps, time.monotonic()
+                    if stopper.signum is not None:
+                        break
+                    y = integ.advance(target)
+                    ev = integ.event
+                    results.append(ev["time"] if ev else target, y)
+                    i += 1
+                    if ev:
+                        summary.status, summary.event = "event", ev
+                        summary.message = f"{ev['criterion']} at t = {ev['time']:.10g}"
+                        results.set_event(ev["time"], ev["criterion"])
+                        break
+                    if bar is not None:
+                        bar.update(integ.t - bar.n)
+                    if checkpoint is not None and (
+                            (k_steps and integ.steps - last_ck_steps >= k_steps) or
+                            (k_seconds and time.monotonic() - last_ck_time >= k_seconds)):
+                        save()
+                        last_ck_steps, last_ck_time = integ.steps, time.monotonic()
+            except FputlabError as err:   # blow-up without an event, back-end failure
+                summary.status, summary.message = "failed", str(err)
+            finally:
+                if bar is not None:
+                    bar.close()
+            if stopper.signum is not None and summary.status == "completed":
+                summary.status = "interrupted"
+                summary.message = f"stopped by {signal.Signals(stopper.signum).name} at t = {integ.t:.10g}"
+            if checkpoint is not None and summary.status in ("completed", "interrupted"):
+                save()
+            summary.t_reached = integ.t if summary.status != "event" else summary.event["time"]
+            summary.samples = results.count
+            results.set_status(summary.status, summary.message)
+        return summary
+    finally:
+        if stop_on:
+            set_criteria(lattice, None)
+
+
+def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida4",
+                  dt: float | None = None, rtol: float = 1e-10, atol: float = 1e-12, y0=None,
+                  n_dev: int = 2, renorm_interval: float = 1.0, n_samples: int = 200,
+                  sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
+                  checkpoint=None, checkpoint_every_steps: int | None = None,
+                  checkpoint_every_seconds: float | None = 600.0, resume: bool = True,
+                  progress: bool = False, segment: float | None = None) -> RunSummary:
+    """mLE, SALI and GALI (fputlab.chaos.lyapunov) written to /chaos of the HDF5 file `out` as
+    the run goes, with checkpoints of the orbit, the deviation vectors and the accumulated
+    log-norms; restart continues bit for bit (fixed-step methods)."""
+    if not isinstance(lattice, Lattice):
+        raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
+    t_end = _real(t_end, "t_end")
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
+    k_steps, k_seconds = _check_every(checkpoint_every_steps, checkpoint_every_seconds)
+    adaptive = method_info(method)["adaptive"]
+    if dt is None and not adaptive:
+        dt = 0.01
+    N = lattice.N
+    orbit = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * N,))
+    iopt = ffi.new("fpl_integrator_options *")
+    lib.fpl_integrator_options_init(iopt)
+    iopt.dt = 0.0 if dt is None else _real(dt, "dt")
+    iopt.rtol, iopt.atol = _real(rtol, "rtol"), _real(atol, "atol")
+    copt = ffi.new("fpl_chaos_options *")
+    lib.fpl_chaos_options_init(copt)
+    copt.t_end, copt.renorm_interval = t_end, _real(renorm_interval, "renorm_interval")
+    copt.n_samples, copt.n_dev = _int(n_samples, "n_samples"), _int(n_dev, "n_dev")
+    copt.sali_threshold = _real(sali_threshold, "sali_threshold")
+    copt.stop_when_chaotic, copt.seed = int(bool(stop_when_chaotic)), _int(seed, "seed")
+    out_h = ffi.new("fpl_chaos **")
+    check(lib.fpl_chaos_create(lattice._h, method.encode(), iopt, 0.0, ptr(orbit), ffi.NULL, copt,
+                               out_h))
+    c = ffi.gc(out_h[0], lambda h: lib.fpl_chaos_free(ffi.new("fpl_chaos **", h)))
+    ih = lib.fpl_chaos_integrator(c)
+
+    class _I:  # what _RunInfo reads from an integrator
+        pass
+    integ = _I()
+    integ.dt, integ.rtol, integ.atol = iopt.dt, iopt.rtol, iopt.atol
+    info = _RunInfo(lattice, "chaos", method, integ, 0.0, copt.n_dev)
+    n_acc = lib.FPL_CHAOS_N_ACCUMULATORS
+    resumed = None
+    if checkpoint is not None and resume and os.path.exists(checkpoint):
+        acc = load_checkpoint(checkpoint, ih, info, n_acc)
+        check(lib.fpl_chaos_restore(c, ptr(np.ascontiguousarray(acc))))
+        resumed = lib.fpl_integrator_time(ih)
+        results = ResultsFile(out, lattice, info, resume_at=resumed)
+    else:
+        results = ResultsFile(out, lattice, info)
+    arrays = [np.full(copt.n_samples, np.nan) for _ in range(4)]
+    res = ffi.new("fpl_chaos_result *")
+    seg = segment if segment is not None else (
+        renorm_interval * max(1, round(1e5 * (dt or 0.01) / renorm_interval)))
+    summary = RunSummary("completed", lib.fpl_integrator_time(ih), 0, resumed, 0, path=os.fspath(out))
+    steps = ffi.new("long *")
+    with results, _Stopper() as stopper:
+        bar = _progress(t_end, f"chaos N={N}", progress, summary.t_reached)
+        lib.fpl_integrator_counters(ih, steps, ffi.NULL)
+        last_ck_steps, last_ck_time = steps[0], time.monotonic()
+
+        def save():
+            results.flush()
+            acc = np.empty(n_acc)
+            check(lib.fpl_chaos_save(c, ptr(acc)))
+            write_checkpoint(checkpoint, ih, info, acc)
+            summary.checkpoints += 1
+
+        try:
+            check(lib.fpl_chaos_get_result(c, res))
+            while not lib.fpl_chaos_done(c) and stopper.signum is None:
+                before = res.n_samples
+                t_now = lib.fpl_integrator_time(ih)
+                check(lib.fpl_chaos_advance(c, t_now + seg, *(ptr(a) for a in arrays)))
+                check(lib.fpl_chaos_get_result(c, res))
+                for j in range(before, res.n_samples):
+                    results.append_chaos(*(a[j] for a in arrays))
+                if bar is not None:
+                    bar.update(res.t_final - bar.n)
+                lib.fpl_integrator_counters(ih, steps, ffi.NULL)
+                if checkpoint is not None and (
+                        (k_steps and steps[0] - last_ck_steps >= k_steps) or
+                        (k_seconds and time.monotonic() - last_ck_time >= k_seconds)):
+                    save()
+                    last_ck_steps, last_ck_time = steps[0], time.monotonic()
+        except FputlabError as err:
+            summary.status, summary.message = "failed", str(err)
+        finally:
+            if bar is not None:
+                bar.close()
+        if stopper.signum is not None and not lib.fpl_chaos_done(c) and summary.status == "completed":
+            summary.status = "interrupted"
+            summary.message = f"stopped by {signal.Signals(stopper.signum).name}"
+        if checkpoint is not None and summary.status in ("completed", "interrupted"):
+            save()
+        check(lib.fpl_chaos_get_result(c, res))
+        summary.t_reached, summary.samples = res.t_final, res.n_samples
+        summary.extra = {"mle": res.mle, "sali": res.sali, "gali": res.gali,
+                         "chaotic": bool(res.chaotic), "t_chaotic": res.t_chaotic}
+        results.set_status(summary.status, summary.message)
+    return summary
+
+
+# ---- reading ---------------------------------------------------------------------------------
+@dataclass
+class Results:
+    """Contents of a results file as numpy arrays (`attrs`: the run description)."""
+    attrs: dict
+    v: np.ndarray
+    t: np.ndarray
+    energy: np.ndarray
+    mode_energies: np.ndarray
+    states: np.ndarray | None = None
+    chaos: dict | None = None           # {'t', 'mle', 'sali', 'gali'}
+    path: str = ""
+
+    @property
+    def status(self) -> str:
+        return self.attrs.get("status", "")
+
+    def to_xarray(self):
+        """The results as an xarray Dataset (needs xarray)."""
+        import xarray as xr
+        data = {"energy": ("t", self.energy), "mode_energies": (("t", "mode"), self.mode_energies),
+                "v": ("site", self.v)}
+        coords = {"t": self.t, "mode": np.arange(1, self.mode_energies.shape[1] + 1),
+                  "site": np.arange(1, self.v.size + 1)}
+        if self.states is not None:
+            data["states"] = (("t", "component"), self.states)
+        if self.chaos is not None:
+            coords["t_chaos"] = self.chaos["t"]
+            for k in ("mle", "sali", "gali"):
+                data[k] = ("t_chaos", self.chaos[k])
+        return xr.Dataset(data, coords=coords, attrs=self.attrs)
+
+
+def _attr(v):
+    if isinstance(v, bytes):
+        return v.decode()
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+def load(path, *, as_xarray: bool = False):
+    """Read a results file written by fputlab (C writer or CLI). Returns `Results` (numpy
+    arrays), or an xarray Dataset with as_xarray=True."""
+    import h5py
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"path: no such file {path!r}")
+    with h5py.File(path, "r") as f:
+        attrs = {k: _attr(v) for k, v in f.attrs.items()}
+        if not str(attrs.get("schema", "")).startswith("fputlab-results/"):
+            raise ValueError(f"{path} is not an fputlab results file (schema {attrs.get('schema')!r})")
+        get = lambda name: f[name][()] if name in f else None
+        chaos = None
+        if "chaos" in f:
+            chaos = {k: f["chaos"][k][()] for k in ("t", "mle", "sali", "gali")}
+        res = Results(attrs=attrs, v=get("v"), t=get("t"), energy=get("energy"),
+                      mode_energies=get("mode_energies"), states=get("states"), chaos=chaos,
+                      path=path)
+    return res.to_xarray() if as_xarray else res

@@ -1,0 +1,121 @@
+"""The analysis subcommands: sweep, coefficients, tauc, bifurcation (paper values, files written,
+bad input -> exit status 2 naming the parameter)."""
+import json
+
+import h5py
+import numpy as np
+import pytest
+
+import fputlab
+from fputlab.cli import main
+from fputlab.reduction import two_mode_coefficients
+
+
+def _json(capsys, argv):
+    assert main(argv + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_coefficients_paper_values(capsys):
+    out = _json(capsys, ["coefficients", "--tau", "0"])
+    assert round(out["A_tilde"], 5) == 3.62805
+    assert round(out["B_tilde"], 5) == 0.90728
+    assert out["N"] == 64 and out["alpha"] == 0.25
+    # raw vs paper-normalised: A_i = a_i/eps, A~ = A_3/(2 omega_1)
+    assert out["A3"] == pytest.approx(out["a3"] / out["eps"], rel=1e-14)
+    assert out["A_tilde"] == pytest.approx(out["A3"] / (2 * out["omega1"]), rel=1e-14)
+    assert out["B_tilde"] == pytest.approx(out["B1"] / (2 * out["omega2"]), rel=1e-14)
+
+
+def test_coefficients_over_taus_to_hdf5(tmp_path, capsys):
+    path = tmp_path / "c.h5"
+    out = _json(capsys, ["coefficients", "--taus", "0", "5", "10", "--seed", "3", "--N", "32",
+                         "--out", str(path)])
+    assert [r["tau"] for r in out["rows"]] == [0.0, 5.0, 10.0]
+    ref = two_mode_coefficients(fputlab.Lattice(32, 0.25, "nonlinear", tau=10.0, seed=3))
+    assert out["rows"][2]["B_tilde"] == ref.B_tilde
+    with h5py.File(path) as f:
+        assert f["raw"].shape == (3, 6) and f["A"].shape == (3, 3)
+        np.testing.assert_array_equal(f["raw"][2], ref.raw)
+        assert f.attrs["N"] == 32 and f.attrs["seed"] == 3
+
+
+def test_tauc_three_ways(capsys):
+    out = _json(capsys, ["tauc"])
+    assert out["tau_c_exact"] == pytest.approx(10.2578, abs=1e-4)
+    assert out["tau_c_fit"] == pytest.approx(10.20, abs=0.01)
+    assert out["tau_c_per_realisation"]["mean"] == pytest.approx(10.85, abs=0.01)
+
+
+def _eq(out):
+    return [(e["theta"], round(e["delta"], 4), e["type"]) for e in out["equilibria"]]
+
+
+def test_bifurcation_paper_equilibria(capsys):
+    out = _json(capsys, ["bifurcation", "--A-tilde", "3.63", "--B-tilde", "0.91"])
+    (t1, d1, k1), (t2, d2, k2) = _eq(out)
+    assert (round(d1, 2), round(d2, 2)) == (5.09, 4.34) and k1 == k2 == "centre"
+    assert (t1, t2) == (0.0, pytest.approx(np.pi / 2))
+    assert out["C"] == pytest.approx(8.125 * (1 - (3.63 - 0.91) / (3.63 + 0.91)))
+    assert all(abs(ev[0]) == 0 for e in out["equilibria"] for ev in e["eigenvalues"])
+    out = _json(capsys, ["bifurcation", "--A-tilde", "5.3932", "--B-tilde", "-0.0015"])
+    assert [(d, k) for _, d, k in _eq(out)] == [(9.1274, "centre"), (15.4383, "saddle")]
+    sad = out["equilibria"][1]
+    assert sad["lambda_squared"] > 0 and sad["eigenvalues"][0][1] == 0
+
+
+def test_bifurcation_plot(tmp_path, capsys):
+    png = tmp_path / "fig7.png"
+    out = _json(capsys, ["bifurcation", "--plot", str(png)])
+    assert out["plot"] == str(png) and png.stat().st_size > 10_000
+
+
+def test_sweep_cli_resumes(tmp_path, capsys):
+    argv = ["sweep", "--taus", "10", "--Ns", "8", "--realisations", "2", "--t-max", "200",
+            "--out", str(tmp_path / "s.h5"), "--workers", "2"]
+    out = _json(capsys, argv)
+    assert (out["tasks"], out["computed"], out["skipped"], out["failed"]) == (2, 2, 0, 0)
+    assert out["work_dir"] == str(tmp_path / "s.h5") + ".tasks"
+    out = _json(capsys, argv)
+    assert (out["computed"], out["skipped"]) == (0, 2)
+    assert out["fraction_blew_up"] == [{"tau": 10.0, "N": 8, "n": 2, "fraction": 0.0}]
+    out = _json(capsys, ["sweep", "--kind", "chaos", "--taus", "10", "--Ns", "8",
+                         "--realisations", "1", "--t-end", "100", "--samples", "10",
+                         "--out", str(tmp_path / "c.h5"), "--work-dir", str(tmp_path / "cw")])
+    assert out["computed"] == 1 and (tmp_path / "cw").is_dir()
+    with h5py.File(tmp_path / "c.h5") as f:
+        assert f["mle_t"].shape[0] == 1 and f.attrs["kind"] == "chaos"
+
+
+@pytest.mark.parametrize("cmd", ["sweep", "coefficients", "tauc", "bifurcation"])
+def test_help(cmd, capsys):
+    with pytest.raises(SystemExit) as e:
+        main([cmd, "--help"])
+    assert e.value.code == 0
+    assert "--json" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["sweep", "--realisations", "0"], "realisations"),
+    (["sweep", "--t-max", "0"], "t_max"),
+    (["sweep", "--Ns", "1"], "Ns"),
+    (["sweep", "--samples", "10"], "--samples"),
+    (["coefficients", "--N", "1"], "N must be >= 2"),
+    (["coefficients", "--model", "homogeneous", "--tau", "5"], "tau"),
+    (["tauc", "--R", "0"], "R must be >= 1"),
+    (["bifurcation", "--B-tilde", "0"], "B_tilde"),
+    (["bifurcation", "--A-tilde", "nan"], "A_tilde"),
+])
+def test_bad_input_exit_2(tmp_path, capsys, argv, name):
+    if argv[0] == "sweep":
+        argv = argv + ["--out", str(tmp_path / "x.h5")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert name in err and err.count("\n") == 1
+
+
+def test_unknown_kind_is_a_usage_error(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["sweep", "--kind", "lyapunov"])
+    assert e.value.code == 2
+    assert "--kind" in capsys.readouterr().err

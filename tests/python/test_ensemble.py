@@ -1,0 +1,193 @@
+"""Ensembles (fputlab.ensemble): the local pool and a Dask cluster give the same results task by
+task, sweeps resume from their work directory, and the merged file holds what blowup_time and
+lyapunov compute when called directly."""
+import math
+import os
+
+import h5py
+import numpy as np
+import pytest
+
+import fputlab
+from fputlab.blowup import blowup_time, realisation_tau_c
+from fputlab.chaos import lyapunov
+from fputlab.ensemble import COLUMNS, SERIES, load_sweep, run_sweep
+
+# tau = 50 % makes some of the tiny lattices blow up before t = 500, tau = 10 % none
+BLOWUP = dict(kind="blowup", taus=[10.0, 50.0], Ns=[8, 16], realisations=3, t_max=500.0)
+CHAOS = dict(kind="chaos", taus=[10.0], Ns=[8], realisations=2, t_max=300.0, n_samples=30)
+
+
+def _sweep(tmp_path, name, spec, **kw):
+    return run_sweep(spec["kind"], spec["taus"], spec["Ns"], spec["realisations"],
+                     t_max=spec["t_max"], work_dir=tmp_path / f"{name}.d",
+                     out=tmp_path / f"{name}.h5", progress=False,
+                     **{k: v for k, v in spec.items()
+                        if k not in ("kind", "taus", "Ns", "realisations", "t_max")}, **kw)
+
+
+def _assert_same(a: dict, b: dict, ignore_attrs=()):
+    assert sorted(a) == sorted(b)
+    for k in a:
+        if k == "attrs":
+            for name in set(a[k]) | set(b[k]):
+                if name in ignore_attrs:
+                    continue
+                x, y = a[k][name], b[k][name]
+                assert np.array_equal(np.asarray(x), np.asarray(y)), name
+        elif a[k].dtype.kind in "fc":
+            np.testing.assert_array_equal(a[k], b[k], err_msg=k)    # NaN == NaN here
+        else:
+            assert np.array_equal(a[k], b[k]), k
+
+
+@pytest.fixture(scope="module")
+def dask_cluster():
+    distributed = pytest.importorskip("dask.distributed")
+    try:
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                           dashboard_address=None)
+    except Exception:          # e.g. process spawning not possible here: threads still test Dask
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                           dashboard_address=None)
+    client = distributed.Client(cluster)
+    yield cluster, client
+    client.close()
+    cluster.close()
+
+
+@pytest.mark.parametrize("spec", [BLOWUP, CHAOS], ids=["blowup", "chaos"])
+def test_local_pool_equals_dask(tmp_path, dask_cluster, spec):
+    cluster, client = dask_cluster
+    local = _sweep(tmp_path, "local", spec, workers=2)
+    # a Client for the blow-up sweep, the scheduler's tcp:// address for the chaos sweep
+    sched = client if spec["kind"] == "blowup" else cluster.scheduler_address
+    remote = _sweep(tmp_path, "dask", spec, scheduler=sched)
+    n = len(spec["taus"]) * len(spec["Ns"]) * spec["realisations"]
+    assert local["n_tasks"] == remote["n_tasks"] == n
+    assert local["computed"] == remote["computed"] == n and not local["failed"] and not remote["failed"]
+    for r1, r2 in zip(local["records"], remote["records"]):     # task by task
+        assert r1.keys() == r2.keys()
+        for k in r1:
+            if isinstance(r1[k], np.ndarray):
+                np.testing.assert_array_equal(r1[k], r2[k])
+            elif isinstance(r1[k], float) and math.isnan(r1[k]):
+                assert math.isnan(r2[k])
+            else:
+                assert r1[k] == r2[k], k
+    _assert_same(load_sweep(tmp_path / "local.h5"), load_sweep(tmp_path / "dask.h5"))
+    if spec["kind"] == "blowup":   # the chosen parameters give both outcomes
+        assert 0 < sum(r["blew_up"] for r in local["records"]) < n
+
+
+def test_resume_recomputes_only_missing_tasks(tmp_path):
+    first = _sweep(tmp_path, "s", BLOWUP, workers=2)
+    work = tmp_path / "s.d"
+    files = sorted(work.glob("*.h5"))
+    assert len(files) == first["n_tasks"] == 12 and first["skipped"] == 0
+    merged1 = load_sweep(tmp_path / "s.h5")
+    victim = files[5]
+    victim.unlink()
+    mtimes = {p: p.stat().st_mtime_ns for p in files if p != victim}
+    second = _sweep(tmp_path, "s", BLOWUP, workers=2)
+    assert (second["computed"], second["skipped"]) == (1, 11)
+    assert victim.exists()
+    assert all(p.stat().st_mtime_ns == m for p, m in mtimes.items())   # the others untouched
+    _assert_same(merged1, load_sweep(tmp_path / "s.h5"))
+    # a file that does not read back (truncated) is recomputed as well
+    victim.write_bytes(b"not hdf5")
+    third = _sweep(tmp_path, "s", BLOWUP, workers=1)
+    assert (third["computed"], third["skipped"]) == (1, 11)
+    _assert_same(merged1, load_sweep(tmp_path / "s.h5"))
+    assert not list(work.glob(".*tmp"))                  # no temporary files left behind
+    # a different t_max is a different sweep: nothing is reused
+    other = run_sweep("blowup", [10.0], [8], 1, t_max=200.0, work_dir=work,
+                      out=tmp_path / "o.h5", progress=False)
+    assert other["skipped"] == 0 and other["computed"] == 1
+
+
+def test_merged_blowup_matches_direct_call(tmp_path):
+    _sweep(tmp_path, "b", BLOWUP, workers=2)
+    m = load_sweep(tmp_path / "b.h5")
+    assert m["attrs"]["fputlab_version"] == fputlab.__version__
+    assert m["attrs"]["kind"] == "blowup" and m["attrs"]["realisations"] == 3
+    np.testing.assert_array_equal(m["attrs"]["taus"], [10.0, 50.0])
+    assert m["attrs"]["model"] == "nonlinear" and m["attrs"]["alpha"] == 0.25
+    assert list(m["kind"]) == ["blowup"] * 12
+    assert set(COLUMNS["blowup"]) <= set(m)
+    # rows in the order tau, N, seed
+    assert list(m["tau"][:6]) == [10.0] * 6 and list(m["N"][:3]) == [8] * 3
+    assert list(m["seed"][:3]) == [1, 2, 3]
+    i = int(np.flatnonzero(m["blew_up"])[0])
+    N, tau, seed = int(m["N"][i]), float(m["tau"][i]), int(m["seed"][i])
+    ref = blowup_time(fputlab.Lattice(N, 0.25, "nonlinear", tau=tau, seed=seed), 500.0)
+    assert ref.blew_up
+    assert m["time"][i] == ref.time and m["t_reached"][i] == ref.t_reached
+    assert m["criterion"][i] == ref.criterion
+    assert m["tau_c"][i] == realisation_tau_c(N, seed, 0.25)
+    j = int(np.flatnonzero(~m["blew_up"])[0])
+    assert np.isnan(m["time"][j]) and m["t_reached"][j] == 500.0 and m["criterion"][j] == ""
+
+
+def test_merged_chaos_matches_direct_call(tmp_path):
+    _sweep(tmp_path, "c", CHAOS, workers=2)
+    m = load_sweep(tmp_path / "c.h5")
+    assert set(COLUMNS["chaos"]) | set(SERIES["chaos"]) <= set(m)
+    assert m["mle_t"].shape == m["sali_t"].shape == m["t"].shape and m["t"].shape[0] == 2
+    i = 1
+    ref = lyapunov(fputlab.Lattice(8, 0.25, "nonlinear", tau=10.0, seed=int(m["seed"][i])),
+                   300.0, n_samples=30)
+    k = int(m["n_samples"][i])
+    assert k == ref.t.size
+    np.testing.assert_array_equal(m["t"][i, :k], ref.t)
+    np.testing.assert_array_equal(m["mle_t"][i, :k], ref.mle)
+    np.testing.assert_array_equal(m["sali_t"][i, :k], ref.sali)
+    assert np.all(np.isnan(m["mle_t"][i, k:]))
+    assert m["mle"][i] == ref.mle_final and m["sali"][i] == ref.sali[-1]
+    assert m["classification"][i] == ref.classify() and m["t_final"][i] == ref.t_final
+    with h5py.File(tmp_path / "c.h5") as f:
+        assert f.attrs["task_options"] == '{"n_samples": 30}'
+
+
+@pytest.mark.parametrize("change, name", [
+    (dict(taus=[]), "taus"),
+    (dict(Ns=[]), "Ns"),
+    (dict(Ns=[1]), "Ns"),
+    (dict(realisations=0), "realisations"),
+    (dict(kind="lyapunov"), "kind"),
+    (dict(t_max=0.0), "t_max"),
+    (dict(t_max=-5.0), "t_max"),
+    (dict(t_max=float("inf")), "t_max"),
+    (dict(taus=[-1.0]), "taus"),
+    (dict(model="quadratic"), "model"),
+    (dict(workers=0), "workers"),
+    (dict(n_samplez=5), "n_samplez"),
+    (dict(method="euler"), "euler"),
+])
+def test_bad_input_names_the_parameter(tmp_path, change, name):
+    args = dict(kind="blowup", taus=[10.0], Ns=[8], realisations=1, t_max=100.0,
+                work_dir=tmp_path / "w", out=tmp_path / "o.h5")
+    args.update(change)
+    kind, taus, Ns, R = (args.pop(k) for k in ("kind", "taus", "Ns", "realisations"))
+    with pytest.raises(ValueError, match=name):
+        run_sweep(kind, taus, Ns, R, **args)
+    assert not os.path.exists(tmp_path / "o.h5")
+
+
+@pytest.mark.parametrize("engine", ["local", "dask"])
+def test_failed_tasks_are_reported_and_retried(tmp_path, dask_cluster, engine):
+    """Without a stopping criterion two of these lattices overflow (IntegrationError in
+    blowup_time): the sweep goes on, reports them, writes no file for them, and retries them."""
+    kw = dict(workers=2) if engine == "local" else dict(scheduler=dask_cluster[1])
+    args = ("blowup", [50.0], [16], 3)
+    opts = dict(t_max=500.0, work_dir=tmp_path / "w", out=tmp_path / "f.h5", progress=False,
+                criteria=[])
+    out = run_sweep(*args, **opts, **kw)
+    assert out["computed"] == 1 and [t.seed for t, _ in out["failed"]] == [1, 3]
+    assert all(msg.startswith("IntegrationError: state became non-finite")
+               for _, msg in out["failed"])
+    assert len(list((tmp_path / "w").glob("*.h5"))) == 1
+    m = load_sweep(tmp_path / "f.h5")
+    assert list(m["seed"]) == [2] and m["attrs"]["n_failed"] == 2 and m["attrs"]["n_tasks"] == 3
+    again = run_sweep(*args, **opts, **kw)
+    assert again["skipped"] == 1 and len(again["failed"]) == 2
