@@ -65,7 +65,8 @@ class Blowup:
 
 
 def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt: float | None = None,
-                rtol: float = 1e-10, atol: float = 1e-12, y0=None, criteria=None) -> Blowup:
+                rtol: float = 1e-10, atol: float = 1e-12, y0=None, criteria=None,
+                progress: bool = False) -> Blowup:
     """Integrate until a criterion fires (default: a bond stretched beyond the barrier 1/alpha) or
     t_max. A NaN/Inf state without an event is an integration failure, reported as such."""
     t_max = _real(t_max, "t_max")
@@ -78,8 +79,18 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
     set_criteria(lattice, crit)
     try:
         integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol)
-        status = lib.fpl_integrator_advance(integ._h, t_max, ffi.NULL)
         index, t_ev = ffi.new("int *"), ffi.new("double *")
+        if progress:   # the same run in 100 segments, a tqdm bar between them
+            from tqdm import tqdm
+            with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t", disable=None,
+                      bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
+                for k in range(1, 101):
+                    status = lib.fpl_integrator_advance(integ._h, t_max * k / 100, ffi.NULL)
+                    bar.update(integ.t - bar.n)
+                    if status != 0:
+                        break
+        else:
+            status = lib.fpl_integrator_advance(integ._h, t_max, ffi.NULL)
         fired = lib.fpl_integrator_event(integ._h, index, t_ev)
         message = ffi.string(lib.fpl_integrator_errmsg(integ._h)).decode()
         if status < 0:

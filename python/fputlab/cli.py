@@ -94,7 +94,8 @@ def cmd_simulate(a):
         _emit({"lattice": repr(lat), "method": a.method, **_run_summary(s)}, a.json)
         return {"completed": 0, "event": 0, "interrupted": 130}.get(s.status, 1)
     run = lat.integrate(a.t_end, method=a.method, sample_every=a.sample_every,
-                        store_states=a.states, on_failure="return", **_integrator_kwargs(a))
+                        store_states=a.states, on_failure="return", progress=not a.json,
+                        **_integrator_kwargs(a))
     summary = {"lattice": repr(lat), "method": a.method, "t_reached": float(run.t[-1]) if run.t.size else 0.0,
                "samples": int(run.t.size), "completed": run.completed, "message": run.message,
                "max_relative_energy_error": float(run.relative_energy_error.max()) if run.t.size else None}
@@ -124,7 +125,8 @@ def cmd_blowup(a):
             summary["plot"] = a.plot
         _emit(summary, a.json)
         return 0
-    res = blowup_time(_lattice(a), a.t_max, method=a.method, **_integrator_kwargs(a))
+    res = blowup_time(_lattice(a), a.t_max, method=a.method, progress=not a.json,
+                      **_integrator_kwargs(a))
     _emit({"blew_up": res.blew_up, "time": res.time, "criterion": res.criterion,
            "t_reached": res.t_reached, "tau": a.tau, "seed": a.seed, "N": a.N}, a.json)
     return 0
@@ -157,7 +159,7 @@ def cmd_chaos(a):
                           **_checkpoint_kwargs(a))
         _emit(_run_summary(s), a.json)
         return {"completed": 0, "interrupted": 130}.get(s.status, 1)
-    res = lyapunov(_lattice(a), a.t_end, method=a.method, **opts)
+    res = lyapunov(_lattice(a), a.t_end, method=a.method, progress=not a.json, **opts)
     _emit({"mle": res.mle_final, "sali": float(res.sali[-1]) if res.sali.size else None,
            "class": res.classify(), "t_final": res.t_final, "steps": res.steps}, a.json)
     return 0

@@ -182,7 +182,8 @@ def _sample_times(t0, t_end, sample_every, times):
 def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
               rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
               times=None, y0=None, deviations=None, t0: float = 0.0, store_states: bool = False,
-              stop_on=None, chunk: int = 4096, on_failure: str = "raise") -> Run:
+              stop_on=None, chunk: int = 4096, on_failure: str = "raise",
+              progress: bool = False) -> Run:
     """Integrate `lattice` from `y0` (default: the paper's mode-1 state, Eq. initxi) to `t_end`,
     sampling at `times` or every `sample_every` (default: 1000 intervals).
 
@@ -194,7 +195,8 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     state there in `run.final_state`.
     If the state becomes NaN/Inf (blow-up) or an adaptive back end gives up (CVODE/GSL step-size
     failure at a blow-up), on_failure="raise" raises IntegrationError whose
-    `.result` holds the finite samples before it; "return" returns them with completed=False."""
+    `.result` holds the finite samples before it; "return" returns them with completed=False.
+    progress: a progress bar with ETA on a terminal (quiet when not a terminal)."""
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     if on_failure not in ("raise", "return"):
@@ -220,18 +222,24 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     set_criteria(lattice, stop_on)
     try:
         return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
-                          chunk, on_failure)
+                          chunk, on_failure, progress)
     finally:
         if stop_on:
             set_criteria(lattice, None)
 
 
 def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
-               on_failure):
+               on_failure, progress=False):
     N = lattice.N
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
     parts = {"t": [], "ek": [], "en": [], "st": []}
     message, completed, status = "", True, lib.FPL_ERR_NONFINITE
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        chunk = max(1, min(chunk, ts.size // 100))
+        bar = tqdm(total=float(ts[-1] - t0), desc=f"integrate N={N}", unit="t", disable=None,
+                   bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
     for start in range(0, ts.size, chunk):
         block = ts[start:start + chunk]
         try:
@@ -246,8 +254,12 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
         parts["en"].append(en[:k])
         if store_states:
             parts["st"].append(st[:k])
+        if bar is not None and k:
+            bar.update(float(block[k - 1] - t0) - bar.n)
         if not completed or integ.last_status == lib.FPL_EVENT:
             break
+    if bar is not None:
+        bar.close()
     cat = lambda xs, shape: np.concatenate(xs) if xs else np.empty(shape)
     states = cat(parts["st"], (0, 1 + integ.n_dev, 2 * N)) if store_states else None
     if states is not None and integ.n_dev == 0:

@@ -80,3 +80,15 @@ def test_figures_quick(tmp_path):
     assert main(["figures", "--out", str(tmp_path), "--only", "3", "7"]) == 0
     assert (tmp_path / "fig03_blowup.png").stat().st_size > 10_000
     assert (tmp_path / "fig07_bifurcation.png").stat().st_size > 10_000
+
+
+def test_progress_bars_change_nothing():
+    """The progress paths run the same computation in segments: identical numbers."""
+    lat = fputlab.Lattice(16, 0.25, "nonlinear", tau=10, seed=1)
+    a, b = (fputlab.chaos.lyapunov(lat, 300.0, n_samples=30, progress=p) for p in (False, True))
+    assert a.mle.tobytes() == b.mle.tobytes() and a.sali.tobytes() == b.sali.tobytes()
+    r1, r2 = (lat.integrate(200.0, sample_every=0.5, progress=p) for p in (False, True))
+    assert r1.mode_energies.tobytes() == r2.mode_energies.tobytes()
+    big = fputlab.Lattice(64, 0.25, "nonlinear", tau=20, seed=1)
+    e1, e2 = (fputlab.blowup.blowup_time(big, 4000.0, progress=p) for p in (False, True))
+    assert e1.blew_up and e1.time == e2.time and e1.criterion == e2.criterion
