@@ -154,6 +154,22 @@ class _Stopper:
             signal.signal(s, h)
 
 
+class _Cadence:
+    """When the next checkpoint is due: every `steps` integrator steps and/or `seconds`."""
+
+    def __init__(self, path, steps: int | None, seconds: float | None, steps_now: int):
+        self.path, self.steps, self.seconds = path, steps, seconds
+        self.mark(steps_now)
+
+    def mark(self, steps_now: int) -> None:
+        self.last_steps, self.last_time = steps_now, time.monotonic()
+
+    def due(self, steps_now: int) -> bool:
+        return self.path is not None and bool(
+            (self.steps and steps_now - self.last_steps >= self.steps) or
+            (self.seconds and time.monotonic() - self.last_time >= self.seconds))
+
+
 @dataclass
 class RunSummary:
     """How a file-backed run ended."""
@@ -244,12 +260,13 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
         summary = RunSummary("completed", integ.t, 0, resumed, 0, path=os.fspath(out))
         with results, _Stopper() as stopper:
             bar = _progress(t_end, f"simulate N={N}", progress, integ.t)
-            last_ck_steps, last_ck_time = integ.steps, time.monotonic()
+            cadence = _Cadence(checkpoint, k_steps, k_seconds, integ.steps)
 
             def save():
                 results.flush()
                 write_checkpoint(checkpoint, integ._h, info)
                 summary.checkpoints += 1
+                cadence.mark(integ.steps)
 
             i = results.count
             try:
@@ -261,11 +278,8 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
                         integ.advance(integ.t + seg)
                         if bar is not None:
                             bar.update(integ.t - bar.n)
-                        if checkpoint is not None and (
-                                (k_steps and integ.steps - last_ck_steps >= k_steps) or
-                                (k_seconds and time.monotonic() - last_ck_time >= k_seconds)):
+                        if cadence.due(integ.steps):
                             save()
-                            last_ck_steps, last_ck_time = integ.steps, time.monotonic()
                     if stopper.signum is not None:
                         break
                     y = integ.advance(target)
@@ -279,11 +293,8 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
                         break
                     if bar is not None:
                         bar.update(integ.t - bar.n)
-                    if checkpoint is not None and (
-                            (k_steps and integ.steps - last_ck_steps >= k_steps) or
-                            (k_seconds and time.monotonic() - last_ck_time >= k_seconds)):
+                    if cadence.due(integ.steps):
                         save()
-                        last_ck_steps, last_ck_time = integ.steps, time.monotonic()
             except FputlabError as err:   # blow-up without an event, back-end failure
                 summary.status, summary.message = "failed", str(err)
             finally:
@@ -363,7 +374,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
     with results, _Stopper() as stopper:
         bar = _progress(t_end, f"chaos N={N}", progress, summary.t_reached)
         lib.fpl_integrator_counters(ih, steps, ffi.NULL)
-        last_ck_steps, last_ck_time = steps[0], time.monotonic()
+        cadence = _Cadence(checkpoint, k_steps, k_seconds, steps[0])
 
         def save():
             results.flush()
@@ -371,6 +382,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
             check(lib.fpl_chaos_save(c, ptr(acc)))
             write_checkpoint(checkpoint, ih, info, acc)
             summary.checkpoints += 1
+            cadence.mark(steps[0])
 
         try:
             check(lib.fpl_chaos_get_result(c, res))
@@ -384,11 +396,8 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
                 if bar is not None:
                     bar.update(res.t_final - bar.n)
                 lib.fpl_integrator_counters(ih, steps, ffi.NULL)
-                if checkpoint is not None and (
-                        (k_steps and steps[0] - last_ck_steps >= k_steps) or
-                        (k_seconds and time.monotonic() - last_ck_time >= k_seconds)):
+                if cadence.due(steps[0]):
                     save()
-                    last_ck_steps, last_ck_time = steps[0], time.monotonic()
         except FputlabError as err:
             summary.status, summary.message = "failed", str(err)
         finally:
