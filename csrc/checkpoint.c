@@ -14,27 +14,16 @@
 
 #define SCHEMA "fputlab-checkpoint/1"
 
-/* FNV-1a, 64 bit. */
-static unsigned long long fnv1a(unsigned long long h, const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    for (size_t i = 0; i < n; i++) {
-        h ^= p[i];
-        h *= 1099511628211ULL;
-    }
-    return h;
-}
-
 static unsigned long long checksum(long steps, double t, const double *y, long dim,
                                    const double *v, int n, const double *extra, int n_extra)
 {
-    unsigned long long h = 14695981039346656037ULL;
+    unsigned long long h = FPL_FNV_OFFSET;
     long long s = steps;
-    h = fnv1a(h, &s, sizeof s);
-    h = fnv1a(h, &t, sizeof t);
-    h = fnv1a(h, y, sizeof(double) * (size_t)dim);
-    h = fnv1a(h, v, sizeof(double) * (size_t)n);
-    return fnv1a(h, extra, sizeof(double) * (size_t)n_extra);
+    h = fpl_fnv1a(h, &s, sizeof s);
+    h = fpl_fnv1a(h, &t, sizeof t);
+    h = fpl_fnv1a(h, y, sizeof(double) * (size_t)dim);
+    h = fpl_fnv1a(h, v, sizeof(double) * (size_t)n);
+    return fpl_fnv1a(h, extra, sizeof(double) * (size_t)n_extra);
 }
 
 /* The run description of the checkpoint comes from the integrator itself (method, options, t0,
@@ -70,7 +59,7 @@ static void folder_of(const char *path, char *dir, size_t len)
 }
 
 int fpl_checkpoint_write(const char *path, const fpl_integrator *h, const fpl_run_info *info,
-                         const double *extra, int n_extra)
+                         const double *extra, int n_extra, const fpl_results *results)
 {
     if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
     if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
@@ -98,7 +87,8 @@ int fpl_checkpoint_write(const char *path, const fpl_integrator *h, const fpl_ru
               fpl_h5_set_long(f, "n_steps", h->n_steps) || fpl_h5_set_double(f, "t", h->t) ||
               fpl_h5_set_u64(f, "checksum", sum) ||
               fpl_h5_write_vector(f, "state", h->y, (size_t)h->dim) ||
-              fpl_h5_write_vector(f, "extra", extra, (size_t)n_extra);
+              fpl_h5_write_vector(f, "extra", extra, (size_t)n_extra) ||
+              (results && fpl_results_save_pending(results, f));
     if (bad) fpl_h5_error_text(msg, sizeof msg);
     if (H5Fclose(f) < 0 && !bad) {
         bad = 1;

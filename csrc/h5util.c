@@ -232,3 +232,13 @@ int fpl_h5_check_description(hid_t file, const char *path, const char *schema,
     }
     return FPL_OK;
 }
+
+unsigned long long fpl_fnv1a(unsigned long long h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 1099511628211ULL;
+    }
+    return h;
+}

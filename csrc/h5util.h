@@ -46,4 +46,14 @@ int fpl_h5_write_description(hid_t file, const char *schema, const fpl_lattice *
 int fpl_h5_check_description(hid_t file, const char *path, const char *schema,
                              const fpl_lattice *lattice, const char *method);
 
+/* FNV-1a, 64 bit, continued from h (start with FPL_FNV_OFFSET). */
+#define FPL_FNV_OFFSET 14695981039346656037ULL
+unsigned long long fpl_fnv1a(unsigned long long h, const void *data, size_t n);
+
+/* Results <-> checkpoints (results.c). A results file only ever receives whole chunks, appended
+ * (a chunk that holds committed rows is never rewritten, so a process killed while writing can
+ * only damage rows that no checkpoint covers); the rows of the chunk in progress travel in the
+ * checkpoint instead: how many rows the file had, and the pending ones. */
+int fpl_results_save_pending(const fpl_results *results, hid_t checkpoint_file);
+
 #endif

@@ -30,9 +30,11 @@ struct fpl_results {
     double *cbuf[C_COUNT];
     int nbuf, ncbuf;           /* buffered rows */
     double *ek;                /* N */
+    char h5msg[256];           /* HDF5's message, taken at the failing call (cleanup clears it) */
     char errmsg[FPL_ERRMSG_LEN];
 };
 
+static int ensure_chaos(fpl_results *r);
 static const char *s_names[S_COUNT] = {"t", "energy", "mode_energies", "states"};
 static const char *c_names[C_COUNT] = {"chaos/t", "chaos/mle", "chaos/sali", "chaos/gali"};
 
@@ -46,16 +48,17 @@ static int h5_fail(fpl_results *r, const char *what)
 {
     char msg[256];
     fpl_h5_error_text(msg, sizeof msg);
+    if (!msg[0] && r) memcpy(msg, r->h5msg, sizeof msg);
     return fail(r, fpl_error(NULL, FPL_ERR_IO, "HDF5: %s failed: %s", what, msg));
 }
 
+/* Every dataset of a file has chunks of the same number of rows, the buffer's: each buffer
+ * written is exactly one new chunk of each dataset, and no chunk is ever written twice. */
 static hid_t create_series(hid_t loc, const char *name, int cols, int chunk_rows)
 {
     int rank = cols ? 2 : 1;
     hsize_t dims[2] = {0, (hsize_t)cols}, maxdims[2] = {H5S_UNLIMITED, (hsize_t)cols};
-    long rows_fit = MAX_CHUNK_BYTES / (8L * (cols ? cols : 1));
-    hsize_t chunk[2] = {(hsize_t)(rows_fit < 1 ? 1 : rows_fit < chunk_rows ? rows_fit : chunk_rows),
-                        (hsize_t)cols};
+    hsize_t chunk[2] = {(hsize_t)chunk_rows, (hsize_t)cols};
     hid_t space = H5Screate_simple(rank, dims, maxdims), dcpl = H5Pcreate(H5P_DATASET_CREATE);
     hid_t lcpl = H5Pcreate(H5P_LINK_CREATE), d = -1;
     if (space >= 0 && dcpl >= 0 && lcpl >= 0 && H5Pset_chunk(dcpl, rank, chunk) >= 0 &&
@@ -68,18 +71,22 @@ static hid_t create_series(hid_t loc, const char *name, int cols, int chunk_rows
     return d;
 }
 
-/* Append n rows from buf to a series. */
-static int append_rows(series *s, const double *buf, int n)
+/* Append n rows from buf to a series; on failure HDF5's message goes to errbuf. */
+static int append_rows(series *s, const double *buf, int n, char *errbuf, size_t errlen)
 {
     if (n == 0 || s->d < 0) return 0;
     int rank = s->cols ? 2 : 1;
     hsize_t size[2] = {(hsize_t)(s->rows + n), (hsize_t)s->cols};
     hsize_t start[2] = {(hsize_t)s->rows, 0}, count[2] = {(hsize_t)n, (hsize_t)s->cols};
-    if (H5Dset_extent(s->d, size) < 0) return -1;
+    if (H5Dset_extent(s->d, size) < 0) {
+        fpl_h5_error_text(errbuf, errlen);
+        return -1;
+    }
     hid_t fs = H5Dget_space(s->d), ms = H5Screate_simple(rank, count, NULL);
     int ok = fs >= 0 && ms >= 0 &&
              H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
              H5Dwrite(s->d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, buf) >= 0;
+    if (!ok) fpl_h5_error_text(errbuf, errlen);
     if (fs >= 0) H5Sclose(fs);
     if (ms >= 0) H5Sclose(ms);
     if (ok) s->rows += n;
@@ -141,6 +148,9 @@ static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **
     r->dim = 2L * lat->n * (1 + info->n_dev);
     r->store_states = info->store_states != 0;
     r->chunk = info->chunk_rows ? info->chunk_rows : 256;
+    long rows_fit = MAX_CHUNK_BYTES / (8L * (r->store_states ? r->dim : lat->n));
+    if (rows_fit < 1) rows_fit = 1;
+    if (r->chunk > rows_fit) r->chunk = (int)rows_fit;   /* chunks of at most 1 MiB */
     const int cols[S_COUNT] = {0, 0, lat->n, (int)r->dim};
     int bad = !(r->ek = malloc(sizeof(double) * (size_t)lat->n));
     for (int i = 0; i < S_COUNT; i++) {
@@ -203,42 +213,110 @@ done:
     return FPL_OK;
 }
 
-/* Number of leading entries of the 1-D dataset d that are <= t (d is non-decreasing). */
-static long rows_up_to(hid_t d, long n, double t)
+/* ---- pending rows: results <-> checkpoint ----------------------------------------------- */
+static const char *p_names[S_COUNT] = {"pending_t", "pending_energy", "pending_mode_energies",
+                                       "pending_states"};
+static const char *pc_names[C_COUNT] = {"pending_chaos_t", "pending_chaos_mle",
+                                        "pending_chaos_sali", "pending_chaos_gali"};
+
+static unsigned long long pending_hash(const fpl_results *r)
 {
-    long lo = 0, hi = n; /* answer in [lo, hi] */
-    hid_t fs = H5Dget_space(d);
-    hsize_t one = 1;
-    hid_t ms = H5Screate_simple(1, &one, NULL);
-    while (lo < hi) {
-        long mid = lo + (hi - lo) / 2;
-        hsize_t start = (hsize_t)mid;
-        double x = NAN;
-        if (H5Sselect_hyperslab(fs, H5S_SELECT_SET, &start, NULL, &one, NULL) < 0 ||
-            H5Dread(d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, &x) < 0) {
-            lo = -1;
-            break;
-        }
-        if (x <= t) lo = mid + 1; else hi = mid;
+    unsigned long long h = FPL_FNV_OFFSET;
+    long counts[4] = {r->s[S_T].rows, r->c[C_T].rows, r->nbuf, r->ncbuf};
+    h = fpl_fnv1a(h, counts, sizeof counts);
+    for (int i = 0; i < S_COUNT; i++)
+        if (r->buf[i])
+            h = fpl_fnv1a(h, r->buf[i], sizeof(double) * (size_t)r->nbuf * (r->s[i].cols ? r->s[i].cols : 1));
+    for (int i = 0; i < C_COUNT; i++) h = fpl_fnv1a(h, r->cbuf[i], sizeof(double) * (size_t)r->ncbuf);
+    return h;
+}
+
+int fpl_results_save_pending(const fpl_results *r, hid_t f)
+{
+    int bad = fpl_h5_set_long(f, "results_rows", r->s[S_T].rows) ||
+              fpl_h5_set_long(f, "results_chaos_rows", r->c[C_T].rows) ||
+              fpl_h5_set_long(f, "results_store_states", r->store_states) ||
+              fpl_h5_set_long(f, "results_chunk_rows", r->chunk) ||
+              fpl_h5_set_u64(f, "results_checksum", pending_hash(r));
+    for (int i = 0; i < S_COUNT && !bad; i++)
+        if (r->buf[i])
+            bad = fpl_h5_write_vector(f, p_names[i], r->buf[i],
+                                      (size_t)r->nbuf * (r->s[i].cols ? r->s[i].cols : 1));
+    for (int i = 0; i < C_COUNT && !bad; i++)
+        bad = fpl_h5_write_vector(f, pc_names[i], r->cbuf[i], (size_t)r->ncbuf);
+    return bad ? -1 : 0;
+}
+
+/* Read the rows on disk and the pending rows of the checkpoint into r (buffers). */
+static int load_pending(fpl_results *r, const char *checkpoint, long *rows, long *crows)
+{
+    hid_t f = H5Fopen(checkpoint, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0) {
+        char msg[256];
+        fpl_h5_error_text(msg, sizeof msg);
+        return fpl_error(NULL, FPL_ERR_IO, "cannot read checkpoint %s: %s", checkpoint, msg);
     }
-    H5Sclose(ms);
-    H5Sclose(fs);
-    return lo;
+    long store = -1, chunk = -1;
+    unsigned long long sum = 0;
+    int st = FPL_OK;
+    if (fpl_h5_get_long(f, "results_rows", rows) || fpl_h5_get_long(f, "results_chaos_rows", crows) ||
+        fpl_h5_get_long(f, "results_store_states", &store) ||
+        fpl_h5_get_long(f, "results_chunk_rows", &chunk) || fpl_h5_get_u64(f, "results_checksum", &sum)) {
+        st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s does not record a results file", checkpoint);
+        goto out;
+    }
+    if (store != r->store_states || chunk != r->chunk) {
+        st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s was written for results with states %s and "
+                       "%ld-row chunks; this run: states %s, %d-row chunks", checkpoint,
+                       store ? "stored" : "not stored", chunk, r->store_states ? "stored" : "not stored",
+                       r->chunk);
+        goto out;
+    }
+    size_t n = (size_t)r->chunk;
+    for (int i = 0; i < S_COUNT && !st; i++) {
+        if (!r->buf[i]) continue;
+        size_t cols = (size_t)(r->s[i].cols ? r->s[i].cols : 1), len = n * cols;
+        if (fpl_h5_read_vector(f, p_names[i], r->buf[i], &len) || len % cols)
+            st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: %s missing or too long", checkpoint, p_names[i]);
+        else
+            r->nbuf = (int)(len / cols);
+    }
+    for (int i = 0; i < C_COUNT && !st; i++) {
+        size_t len = n;
+        if (fpl_h5_read_vector(f, pc_names[i], r->cbuf[i], &len))
+            st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: %s missing or too long", checkpoint, pc_names[i]);
+        else
+            r->ncbuf = (int)len;
+    }
+    if (!st) {
+        long keep_rows = r->s[S_T].rows, keep_crows = r->c[C_T].rows;
+        r->s[S_T].rows = *rows;
+        r->c[C_T].rows = *crows;
+        if (pending_hash(r) != sum)
+            st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt (results checksum mismatch)",
+                           checkpoint);
+        r->s[S_T].rows = keep_rows;
+        r->c[C_T].rows = keep_crows;
+    }
+out:
+    H5Fclose(f);
+    return st;
 }
 
 int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *info,
-                       double t_resume, fpl_results **out)
+                       const char *checkpoint, fpl_results **out)
 {
     if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
     *out = NULL;
     if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
-    if (!isfinite(t_resume)) return fpl_error(NULL, FPL_ERR_ARG, "t_resume must be finite");
+    if (!checkpoint || !*checkpoint) return fpl_error(NULL, FPL_ERR_ARG, "checkpoint: empty file name");
     int st = check_info(lat, info);
     if (st) return st;
     fpl_results *r;
     if ((st = new_handle(lat, info, &r))) return st;
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
+    long rows = 0, crows = 0;
     r->file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
     if (r->file < 0) {
         char msg[256];
@@ -247,6 +325,7 @@ int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *i
         goto done;
     }
     if ((st = fpl_h5_check_description(r->file, path, SCHEMA, lat, info->method))) goto done;
+    if ((st = load_pending(r, checkpoint, &rows, &crows))) goto done;
     for (int i = 0; i < S_COUNT; i++) {
         if (i == S_STATES && !r->store_states) continue;
         if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
@@ -257,20 +336,24 @@ int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *i
             goto done;
         }
     }
-    long keep = rows_up_to(r->s[S_T].d, series_rows(r->s[S_T].d), t_resume);
-    for (int i = 0; i < S_COUNT && keep >= 0; i++)
-        if (set_rows(&r->s[i], keep)) keep = -1;
-    if (keep >= 0 && H5Lexists(r->file, "chaos", H5P_DEFAULT) > 0) {
-        for (int i = 0; i < C_COUNT; i++)
-            if ((r->c[i].d = H5Dopen2(r->file, c_names[i], H5P_DEFAULT)) < 0) keep = -1;
-        long ckeep = keep < 0 ? -1 : rows_up_to(r->c[C_T].d, series_rows(r->c[C_T].d), t_resume);
-        for (int i = 0; i < C_COUNT && ckeep >= 0; i++)
-            if (set_rows(&r->c[i], ckeep)) ckeep = -1;
-        if (ckeep < 0) keep = -1;
+    if (crows > 0 && ensure_chaos(r)) {
+        st = h5_fail(r, "opening the chaos datasets");
+        goto done;
     }
-    if (keep < 0 || fpl_h5_set_string(r->file, "status", "running") ||
+    long have = series_rows(r->s[S_T].d), chave = crows > 0 ? series_rows(r->c[C_T].d) : 0;
+    if (have < rows || chave < crows) {
+        st = fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows (%ld chaos rows), fewer than the %ld (%ld) "
+                       "its checkpoint %s records: not the file of that run", path, have, chave,
+                       rows, crows, checkpoint);
+        goto done;
+    }
+    /* cut back to whole chunks written before the checkpoint; later ones go */
+    int bad = 0;
+    for (int i = 0; i < S_COUNT && !bad; i++) bad = set_rows(&r->s[i], rows) != 0;
+    for (int i = 0; i < C_COUNT && !bad; i++) bad = set_rows(&r->c[i], crows) != 0;
+    if (bad || fpl_h5_set_string(r->file, "status", "running") ||
         H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0)
-        st = h5_fail(r, "truncating the results to the checkpoint");
+        st = h5_fail(r, "cutting the results back to the checkpoint");
 done:
     fpl_h5_quiet_end(&q);
     if (st) {
@@ -285,28 +368,49 @@ const char *fpl_results_errmsg(const fpl_results *r) { return r ? r->errmsg : ""
 
 long fpl_results_count(const fpl_results *r) { return r ? r->s[S_T].rows + r->nbuf : -1; }
 
-/* Write buffered rows (no flush of the file). */
-static int write_buffers(fpl_results *r)
+static int ensure_chaos(fpl_results *r)
 {
-    for (int i = 0; i < S_COUNT; i++)
-        if (append_rows(&r->s[i], r->buf[i], r->nbuf)) return -1;
-    r->nbuf = 0;
-    for (int i = 0; i < C_COUNT; i++)
-        if (append_rows(&r->c[i], r->cbuf[i], r->ncbuf)) return -1;
-    r->ncbuf = 0;
+    if (r->c[C_T].d >= 0) return 0;
+    for (int i = 0; i < C_COUNT; i++) {
+        if (H5Lexists(r->file, "chaos", H5P_DEFAULT) > 0 &&
+            H5Lexists(r->file, c_names[i], H5P_DEFAULT) > 0)
+            r->c[i].d = H5Dopen2(r->file, c_names[i], H5P_DEFAULT);
+        else
+            r->c[i].d = create_series(r->file, c_names[i], 0, r->chunk);
+        if (r->c[i].d < 0) return -1;
+    }
     return 0;
 }
 
-int fpl_results_flush(fpl_results *r)
+/* Write the buffers: only full ones (whole chunks), unless `all` (closing the file). */
+static int write_buffers(fpl_results *r, int all)
+{
+    if (r->nbuf == r->chunk || (all && r->nbuf)) {
+        for (int i = 0; i < S_COUNT; i++)
+            if (append_rows(&r->s[i], r->buf[i], r->nbuf, r->h5msg, sizeof r->h5msg)) return -1;
+        r->nbuf = 0;
+    }
+    if (r->ncbuf == r->chunk || (all && r->ncbuf)) {
+        if (ensure_chaos(r)) return -1;
+        for (int i = 0; i < C_COUNT; i++)
+            if (append_rows(&r->c[i], r->cbuf[i], r->ncbuf, r->h5msg, sizeof r->h5msg)) return -1;
+        r->ncbuf = 0;
+    }
+    return 0;
+}
+
+static int flush(fpl_results *r, int all)
 {
     if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
-    int st = write_buffers(r) || H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "writing samples")
-                                                                      : FPL_OK;
+    int st = write_buffers(r, all) || H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0
+                 ? h5_fail(r, "writing samples") : FPL_OK;
     fpl_h5_quiet_end(&q);
     return st;
 }
+
+int fpl_results_flush(fpl_results *r) { return flush(r, 0); }
 
 int fpl_results_append(fpl_results *r, double t, const double *y)
 {
@@ -330,7 +434,7 @@ int fpl_results_append(fpl_results *r, double t, const double *y)
     memcpy(r->buf[S_MODE_ENERGIES] + (size_t)k * n, r->ek, sizeof(double) * (size_t)n);
     if (r->store_states) memcpy(r->buf[S_STATES] + (size_t)k * r->dim, y, sizeof(double) * (size_t)r->dim);
     r->nbuf++;
-    return r->nbuf == r->chunk ? fpl_results_flush(r) : FPL_OK;
+    return r->nbuf == r->chunk ? flush(r, 0) : FPL_OK;
 }
 
 int fpl_results_append_chaos(fpl_results *r, double t, double mle, double sali, double gali)
@@ -341,10 +445,7 @@ int fpl_results_append_chaos(fpl_results *r, double t, double mle, double sali, 
     if (r->c[C_T].d < 0) {
         fpl_h5_quiet q;
         fpl_h5_quiet_begin(&q);
-        int bad = 0;
-        for (int i = 0; i < C_COUNT && !bad; i++)
-            bad = (r->c[i].d = create_series(r->file, c_names[i], 0, r->chunk)) < 0;
-        int st = bad ? h5_fail(r, "creating the chaos datasets") : FPL_OK;
+        int st = ensure_chaos(r) ? h5_fail(r, "creating the chaos datasets") : FPL_OK;
         fpl_h5_quiet_end(&q);
         if (st) return st;
     }
@@ -354,7 +455,7 @@ int fpl_results_append_chaos(fpl_results *r, double t, double mle, double sali, 
     r->cbuf[C_SALI][k] = sali;
     r->cbuf[C_GALI][k] = gali;
     r->ncbuf++;
-    return r->ncbuf == r->chunk ? fpl_results_flush(r) : FPL_OK;
+    return r->ncbuf == r->chunk ? flush(r, 0) : FPL_OK;
 }
 
 int fpl_results_set_status(fpl_results *r, const char *status, const char *message)
@@ -390,7 +491,7 @@ int fpl_results_set_event(fpl_results *r, double t, const char *criterion)
 int fpl_results_close(fpl_results **rp)
 {
     if (!rp || !*rp) return FPL_OK;
-    int st = fpl_results_flush(*rp);
+    int st = flush(*rp, 1);
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     release(*rp);

@@ -1,9 +1,10 @@
 /* fputlab — results and checkpoints in HDF5 (serial C API; schema in docs/hdf5.md).
  *
  * Results: a file written incrementally while a run goes on. Samples are buffered in memory one
- * chunk at a time (chunk_rows rows), then appended to chunked, compressed, extendible datasets and
- * flushed, so a run of any length holds at most one chunk of history and a crash loses at most
- * the samples of the chunk in progress.
+ * chunk at a time (chunk_rows rows), then appended as a new whole chunk to chunked, compressed,
+ * extendible datasets and flushed, so a run of any length holds at most one chunk of history, a
+ * crash loses at most the samples of the chunk in progress, and data already written is never
+ * rewritten (only fpl_results_close writes a partial last chunk).
  *
  *   fpl_run_info info;  fpl_run_info_init(&info);  info.method = "yoshida4";  info.dt = 0.01;
  *   fpl_results *r;
@@ -55,11 +56,12 @@ typedef struct fpl_results fpl_results;
 /* Create (or truncate) a results file for runs of this lattice. */
 FPL_API int fpl_results_create(const char *path, fpl_lattice *lattice, const fpl_run_info *info,
                                fpl_results **out);
-/* Reopen a results file to continue a run restarted from a checkpoint at time t_resume: the
- * file must describe the same lattice (N, model, alpha, beta, v) and method; samples and chaos
- * rows later than t_resume (written after the checkpoint) are dropped. */
+/* Reopen a results file to continue a run restarted from `checkpoint` (written with this
+ * results handle, see fpl_checkpoint_write): the file must describe the same lattice (N, model,
+ * alpha, beta, v) and method; it is cut back to the rows it had at the checkpoint (whole
+ * chunks) and the rows of the chunk then in progress come back from the checkpoint. */
 FPL_API int fpl_results_resume(const char *path, fpl_lattice *lattice, const fpl_run_info *info,
-                               double t_resume, fpl_results **out);
+                               const char *checkpoint, fpl_results **out);
 FPL_API const char *fpl_results_errmsg(const fpl_results *results);
 
 /* Append a sample at time t of state y (length 2N(1 + n_dev)): t, the orbit's mode energies and
@@ -82,10 +84,13 @@ FPL_API int fpl_results_close(fpl_results **results);
 /* ---- checkpoints ------------------------------------------------------------------------ */
 enum { FPL_CHECKPOINT_MAX_EXTRA = 64 };
 
-/* Write the integrator's state (it must integrate `lattice`), the run description and n_extra
- * run-specific numbers (accumulators) atomically to path. */
+/* Write the integrator's state, the run description, n_extra run-specific numbers
+ * (accumulators) and, if results is not NULL, where that results file stands (its rows on disk
+ * and the pending ones) atomically to path. A results file only ever receives whole chunks,
+ * so a process killed at any moment leaves the rows covered by its last checkpoint intact. */
 FPL_API int fpl_checkpoint_write(const char *path, const fpl_integrator *integrator,
-                                 const fpl_run_info *info, const double *extra, int n_extra);
+                                 const fpl_run_info *info, const double *extra, int n_extra,
+                                 const fpl_results *results);
 
 /* Validate the checkpoint at path against the integrator (created for the same lattice, method,
  * options, t0 and number of deviation vectors) and info->kind, then restore the integrator to it

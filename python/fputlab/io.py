@@ -5,8 +5,10 @@
     >>> fputlab.io.simulate_to_file(lat, 1e6, "run.h5", checkpoint="run.ckpt")   # ... it goes on
     >>> res = fputlab.load("run.h5"); res.t, res.mode_energies
 
-The results file never holds more than one chunk of samples in memory; a checkpoint (step
-count, time, state with deviation vectors, chaos accumulators) is written every
+The results file never holds more than one chunk of samples in memory and only ever receives
+whole new chunks (data on disk is never rewritten, so a kill cannot damage what a checkpoint
+covers); a checkpoint (step count, time, state with deviation vectors, chaos accumulators, the
+results rows on disk and those pending) is written every
 `checkpoint_every_steps` steps or `checkpoint_every_seconds` seconds, atomically, and on
 SIGINT/SIGTERM before stopping. Restarting from it continues bit for bit (fixed-step methods):
 the final files equal those of an uninterrupted run. The schema is in docs/hdf5.md."""
@@ -64,14 +66,16 @@ class _RunInfo:
 class ResultsFile:
     """A results file being written (C `fpl_results`); use as a context manager."""
 
-    def __init__(self, path, lattice: Lattice, info: _RunInfo, *, resume_at: float | None = None):
+    def __init__(self, path, lattice: Lattice, info: _RunInfo, *, resume_from=None):
+        """Create the file, or with resume_from (a checkpoint written with this results file)
+        reopen it cut back to the checkpoint, the rows then pending restored."""
         self.path, self.lattice, self._info = os.fspath(path), lattice, info
         out = ffi.new("fpl_results **")
-        if resume_at is None:
+        if resume_from is None:
             check(lib.fpl_results_create(self.path.encode(), lattice._h, info.c, out))
         else:
             check(lib.fpl_results_resume(self.path.encode(), lattice._h, info.c,
-                                         _real(resume_at, "resume_at"), out))
+                                         os.fspath(resume_from).encode(), out))
         self._h = out[0]
 
     def _check(self, status):
@@ -109,11 +113,14 @@ class ResultsFile:
         self.close()
 
 
-def write_checkpoint(path, integ_handle, info: _RunInfo, extra=()) -> None:
-    """Write a checkpoint of the C integrator `integ_handle` atomically."""
+def write_checkpoint(path, integ_handle, info: _RunInfo, extra=(),
+                     results: ResultsFile | None = None) -> None:
+    """Write a checkpoint of the C integrator `integ_handle` (and of where `results` stands)
+    atomically."""
     ex = np.ascontiguousarray(extra, dtype=np.float64)
     check(lib.fpl_checkpoint_write(os.fspath(path).encode(), integ_handle, info.c,
-                                   ptr(ex) if ex.size else ffi.NULL, ex.size))
+                                   ptr(ex) if ex.size else ffi.NULL, ex.size,
+                                   results._h if results is not None else ffi.NULL))
 
 
 def load_checkpoint(path, integ_handle, info: _RunInfo, max_extra: int = 0) -> np.ndarray:
@@ -253,7 +260,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
         if checkpoint is not None and resume and os.path.exists(checkpoint):
             load_checkpoint(checkpoint, integ._h, info)
             resumed = integ.t
-            results = ResultsFile(out, lattice, info, resume_at=resumed)
+            results = ResultsFile(out, lattice, info, resume_from=checkpoint)
         else:
             results = ResultsFile(out, lattice, info)
         seg = math.inf if adaptive else max_steps_per_segment * dt
@@ -263,8 +270,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
             cadence = _Cadence(checkpoint, k_steps, k_seconds, integ.steps)
 
             def save():
-                results.flush()
-                write_checkpoint(checkpoint, integ._h, info)
+                write_checkpoint(checkpoint, integ._h, info, results=results)
                 summary.checkpoints += 1
                 cadence.mark(integ.steps)
 
@@ -362,7 +368,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
         acc = load_checkpoint(checkpoint, ih, info, n_acc)
         check(lib.fpl_chaos_restore(c, ptr(np.ascontiguousarray(acc))))
         resumed = lib.fpl_integrator_time(ih)
-        results = ResultsFile(out, lattice, info, resume_at=resumed)
+        results = ResultsFile(out, lattice, info, resume_from=checkpoint)
     else:
         results = ResultsFile(out, lattice, info)
     arrays = [np.full(copt.n_samples, np.nan) for _ in range(4)]
@@ -377,10 +383,9 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
         cadence = _Cadence(checkpoint, k_steps, k_seconds, steps[0])
 
         def save():
-            results.flush()
             acc = np.empty(n_acc)
             check(lib.fpl_chaos_save(c, ptr(acc)))
-            write_checkpoint(checkpoint, ih, info, acc)
+            write_checkpoint(checkpoint, ih, info, acc, results)
             summary.checkpoints += 1
             cadence.mark(steps[0])
 

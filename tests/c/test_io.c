@@ -97,17 +97,36 @@ static void test_results(fpl_lattice *lat)
     }
     CHECK(same, "rows read back equal what was appended");
 
-    /* resume at t = 5.5: rows t <= 5.5 stay (6), the rest go, appends continue */
-    CHECK_OK(fpl_results_resume(path, lat, &info, 5.5, &r));
-    CHECK(fpl_results_count(r) == 6, "resume keeps 6 rows, got %ld", fpl_results_count(r));
+    /* checkpoint mid-chunk: rows 0..5 appended (one whole chunk of 4 on disk, 2 pending), the
+     * run goes on to row 8 (a second chunk written) and is "killed"; resuming cuts the file
+     * back to the first chunk, refills the 2 pending rows from the checkpoint, and continues */
+    const char *ck = tmpfile_in("results.ckpt");
+    fpl_integrator *h;
+    fpl_integrator_options iopt;
+    fpl_integrator_options_init(&iopt);
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, &iopt, 0.0, ys[0], &h));
+    CHECK_OK(fpl_results_create(path, lat, &info, &r));
+    for (int i = 0; i < 6; i++) CHECK_OK(fpl_results_append(r, (double)i, ys[i]));
+    CHECK_OK(fpl_checkpoint_write(ck, h, &info, NULL, 0, r));
+    for (int i = 6; i < 9; i++) CHECK_OK(fpl_results_append(r, (double)i, ys[i]));
+    CHECK(read_rows(path, "t", t, 16) == 8, "two whole chunks on disk before closing");
+    CHECK_OK(fpl_results_close(&r));              /* the partial chunk only at the end */
+    CHECK(read_rows(path, "t", t, 16) == 9, "9 rows after closing");
+    CHECK_OK(fpl_results_resume(path, lat, &info, ck, &r));
+    CHECK(fpl_results_count(r) == 6, "resume keeps 4 rows on disk + 2 pending, got %ld",
+          fpl_results_count(r));
     CHECK_OK(fpl_results_append(r, 6.0, ys[6]));
     CHECK_OK(fpl_results_close(&r));
-    CHECK(read_rows(path, "t", t, 16) == 7 && t[6] == 6.0, "7 rows after resume");
+    CHECK(read_rows(path, "t", t, 16) == 7 && t[3] == 3.0 && t[4] == 4.0 && t[5] == 5.0 && t[6] == 6.0,
+          "7 rows after resume, the pending ones restored");
+    CHECK(read_rows(path, "states", st, 16 * 2 * N) == 7 &&
+              memcmp(st + 5 * 2 * N, ys[5], sizeof ys[5]) == 0, "pending states restored");
+    fpl_integrator_free(&h);
 
     /* a results file of another lattice cannot be resumed */
     fpl_lattice *other;
     fpl_lattice_create(N + 1, 0.25, 0.0, FPL_MODEL_HOMOGENEOUS, NULL, &other);
-    CHECK(fpl_results_resume(path, other, &info, 5.0, &r) == FPL_ERR_ARG && r == NULL,
+    CHECK(fpl_results_resume(path, other, &info, ck, &r) == FPL_ERR_ARG && r == NULL,
           "resume with another N refused: %s", fpl_last_error());
     fpl_lattice_free(&other);
     CHECK(fpl_results_create(tmpfile_in("no/such/dir.h5"), lat, &info, &r) == FPL_ERR_IO,
@@ -127,7 +146,7 @@ static void run_to(fpl_lattice *lat, double t1, const double *y0, double *y_out,
     if (ckpt) {
         double extra[2] = {1.5, -2.0};
         CHECK_OK(fpl_integrator_advance(h, t_ckpt, NULL));
-        CHECK_OK(fpl_checkpoint_write(ckpt, h, NULL, extra, 2));
+        CHECK_OK(fpl_checkpoint_write(ckpt, h, NULL, extra, 2, NULL));
     }
     CHECK_OK(fpl_integrator_advance(h, t1, y_out));
     fpl_integrator_free(&h);
@@ -251,7 +270,8 @@ static void test_chaos_restart(fpl_lattice *lat, const double *y0)
     CHECK_OK(fpl_chaos_create(lat, "yoshida4", &io, 0.0, y0, NULL, &co, &c));
     CHECK_OK(fpl_chaos_advance(c, 123.4, t2, m2, s2, NULL));
     CHECK_OK(fpl_chaos_save(c, acc));
-    CHECK_OK(fpl_checkpoint_write(ck, fpl_chaos_integrator(c), &info, acc, FPL_CHAOS_N_ACCUMULATORS));
+    CHECK_OK(fpl_checkpoint_write(ck, fpl_chaos_integrator(c), &info, acc, FPL_CHAOS_N_ACCUMULATORS,
+                                  NULL));
     fpl_chaos_free(&c);
 
     CHECK_OK(fpl_chaos_create(lat, "yoshida4", &io, 0.0, y0, NULL, &co, &c));
