@@ -202,6 +202,8 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure must be 'raise' or 'return', got {on_failure!r}")
     t0, t_end = _real(t0, "t0"), _real(t_end, "t_end")
+    if not math.isfinite(t0):
+        raise ValueError(f"t0 must be finite (got {t0:g})")
     if not (math.isfinite(t_end) and t_end >= t0):
         raise ValueError(f"t_end must be finite and >= t0 = {t0:g} (got {t_end:g})")
     if dt is not None:

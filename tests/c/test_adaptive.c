@@ -1,6 +1,7 @@
 /* The adaptive back ends (ARKODE ERKStep, CVODE, GSL odeiv2) through fpl_integrator:
  * the DOP853 Butcher table (order conditions, observed order 8), closed-form solutions, the
- * paper's model 3 against Yoshida 4, deviation vectors against finite differences and the
+ * paper's model 3 (every method against Yoshida 4; every splitting scheme against DOP853 and
+ * CVODE, with its observed order), deviation vectors against finite differences and the
  * symplectic tangent map, and failures (bad tolerances, too much work, blow-up). */
 #include <string.h>
 #include <arkode/arkode_erkstep.h>
@@ -235,6 +236,47 @@ static void test_model3(void)
         worst = fmax(worst, d);
     }
     printf("model 3, t = 100: largest difference from yoshida4 %.2e\n", worst);
+
+    /* Every splitting scheme (tangent-free orbit) against DOP853 and both CVODE methods at
+     * tight tolerances, at a step where each reaches 1e-8 with a margin of >= 20 (measured
+     * errors vs DOP853: leapfrog 1e-4 -> 4e-10, yoshida4 1e-3 -> 5e-13, aba864 0.01 -> 1e-12,
+     * srkn14a6 0.05 -> 4e-13), and the observed order from two coarse steps (h, h/2). */
+    static const struct { const char *name; double dt, coarse; int order; } schemes[] = {
+        {"leapfrog", 1e-4, 2e-3, 2}, {"yoshida4", 1e-3, 0.02, 4},
+        {"aba864", 0.01, 0.2, 4},    /* (8,6,4): the eps^3 h^4 term dominates at h = 0.1-0.2 */
+        {"srkn14a6", 0.05, 0.5, 6},
+    };
+    static const char *const refs[] = {"dop853", "cvode-adams", "cvode-bdf"};
+    double yref[3][32];
+    for (int r = 0; r < 3; r++)
+        run(lat, refs[r], 0, 1e-13, 1e-15, 0.0, y0, 100.0, yref[r], &steps, &evals);
+    for (int s = 0; s < 4; s++) {
+        if (run(lat, schemes[s].name, 0, 0, 0, schemes[s].dt, y0, 100.0, y1, &steps, &evals))
+            continue;
+        CHECK(steps == (long)llround(100.0 / schemes[s].dt), "%s: %ld steps", schemes[s].name,
+              steps);
+        for (int r = 0; r < 3; r++) {
+            double d = max_abs_diff(y1, yref[r], 32);
+            printf("model 3, t = 100: %-8s dt = %-6g |y - %s| = %.2e\n", schemes[s].name,
+                   schemes[s].dt, refs[r], d);
+            CHECK(d < 1e-8, "%s (dt = %g) vs %s at t = 100: %g", schemes[s].name,
+                  schemes[s].dt, refs[r], d);
+        }
+        double e1, e2, yc[32];
+        if (run(lat, schemes[s].name, 0, 0, 0, schemes[s].coarse, y0, 100.0, yc, NULL, NULL))
+            continue;
+        e1 = max_abs_diff(yc, yref[0], 32);
+        if (run(lat, schemes[s].name, 0, 0, 0, schemes[s].coarse / 2, y0, 100.0, yc, NULL, NULL))
+            continue;
+        e2 = max_abs_diff(yc, yref[0], 32);
+        const double ratio = e1 / e2, expect = pow(2.0, schemes[s].order);
+        printf("model 3, t = 100: %-8s errors %.2e (dt = %g), %.2e (dt = %g): ratio %.1f "
+               "(order %d: %g)\n", schemes[s].name, e1, schemes[s].coarse, e2,
+               schemes[s].coarse / 2, ratio, schemes[s].order, expect);
+        CHECK(e2 > 1e-11, "%s: coarse errors above round-off (%g)", schemes[s].name, e2);
+        CHECK(ratio > 0.7 * expect && ratio < 1.5 * expect, "%s: error ratio %g, expected ~%g",
+              schemes[s].name, ratio, expect);
+    }
     fpl_lattice_free(&lat);
 }
 

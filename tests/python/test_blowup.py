@@ -107,3 +107,88 @@ def test_recurrence_and_localisation_measures():
     fake = np.zeros((1, 8))
     fake[0, :3] = 1.0
     assert analysis.effective_modes(fake)[0] == pytest.approx(3.0)
+
+
+# ---- every criterion: the splitting locator, ARKODE and CVODE root-finding agree ----------
+# N = 64, tau = 20 %, seed 1 blows up at t = 2545 (stretch > 1/alpha). To keep the tests short
+# every run starts from the state at t = 2300 (Yoshida 4, dt = 0.01), where the amplitudes
+# grow towards the blow-up: the thresholds below are crossed 165-245 time units later, at
+# different times (energy, E_1 and max_k E_k, max |x_j|, max bond stretch).
+CRITERIA = [
+    ("energy", 4.0),
+    ("mode_energy", 1.0, 1),
+    ("mode_energy", 1.0, 0),          # k = 0: the largest mode energy
+    ("displacement", 5.0),
+    ("stretch", 3.0),
+    ("stretch", 4.0),                 # the default criterion: the escape over the barrier
+]
+CRIT_IDS = ["energy", "E1", "maxEk", "displacement", "stretch3", "stretch4"]
+
+
+@pytest.fixture(scope="module")
+def late_state():
+    lat = Lattice(64, 0.25, "nonlinear", tau=20.0, seed=1)
+    integ = fputlab.Integrator(lat, lat.mode_state(), dt=0.01)
+    integ.advance(2300.0)
+    return lat, integ.state[0].copy()
+
+
+_reference = {}
+
+
+def _dop853_event(late_state, crit):
+    """DOP853 (ARKODE root-finding) at tight tolerances, computed once per criterion."""
+    if crit not in _reference:
+        lat, y0 = late_state
+        _reference[crit] = blowup.blowup_time(lat, 1e3, y0=y0, criteria=[crit], method="dop853",
+                                              rtol=1e-11, atol=1e-13)
+    return _reference[crit]
+
+
+def _criterion_value(crit, y):
+    """The criterion's quantity on a state, with numpy (not the library's event code)."""
+    N = y.size // 2
+    x, p = y[:N], y[N:]
+    d = np.diff(np.concatenate([[0.0], x, [0.0]]))
+    if crit[0] == "energy":       # Eq. (Hamilt), model 3: p = velocity
+        return 0.5 * np.sum(p**2) + np.sum(d**2 / 2 + 0.25 * d**3 / 3)
+    if crit[0] == "displacement":
+        return np.abs(x).max()
+    if crit[0] == "stretch":
+        return np.abs(d).max()
+    j = np.arange(1, N + 1)
+    A = np.sqrt(2 / (N + 1)) * np.sin(np.outer(j, j) * np.pi / (N + 1))
+    omega = 2 * np.sin(j * np.pi / (2 * (N + 1)))
+    E = 0.5 * ((A @ p) ** 2 + omega**2 * (A @ x) ** 2)
+    return E.max() if crit[2] == 0 else E[crit[2] - 1]
+
+
+@pytest.mark.parametrize("crit", CRITERIA, ids=CRIT_IDS)
+def test_every_criterion_same_event_time_splitting_arkode_cvode(late_state, crit):
+    lat, y0 = late_state
+    assert _criterion_value(crit, y0) < 0.8 * crit[1]          # not crossed at the start
+    ark = _dop853_event(late_state, crit)
+    assert ark.blew_up and 100.0 < ark.time < 300.0
+    # the state at the event sits on the threshold (independent evaluation)
+    assert _criterion_value(crit, ark.state) == pytest.approx(crit[1], rel=1e-9)
+    split = blowup.blowup_time(lat, 1e3, y0=y0, criteria=[crit])           # yoshida4, dt = 0.01
+    cv = blowup.blowup_time(lat, 1e3, y0=y0, criteria=[crit], method="cvode-adams",
+                            rtol=1e-10, atol=1e-12)
+    for res in (split, cv):
+        assert res.blew_up and res.criterion == ark.criterion, (res.method, res.criterion)
+        assert abs(res.time - ark.time) < 1e-6 * ark.time, (res.method, res.time, ark.time)
+        assert _criterion_value(crit, res.state) == pytest.approx(crit[1], rel=1e-7)
+
+
+@pytest.mark.parametrize("crit", CRITERIA, ids=CRIT_IDS)
+@pytest.mark.parametrize("method,dt", [("leapfrog", 0.002), ("aba864", 0.05),
+                                       ("srkn14a6", 0.1)])
+def test_in_step_locator_every_scheme(late_state, crit, method, dt):
+    # the event falls inside a step: a locator returning the step's end would be off by up to
+    # dt (> 1e-6 relative here for every scheme)
+    lat, y0 = late_state
+    ark = _dop853_event(late_state, crit)
+    res = blowup.blowup_time(lat, 1e3, y0=y0, criteria=[crit], method=method, dt=dt)
+    assert res.blew_up and res.criterion == ark.criterion
+    assert abs(res.time - ark.time) < 1e-6 * ark.time, (res.time, ark.time)
+    assert _criterion_value(crit, res.state) == pytest.approx(crit[1], rel=1e-7)

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fputlab import Lattice, draw_disorder, integrate
+from fputlab import FputlabError, IntegrationError, Integrator, Lattice, draw_disorder, integrate
 
 
 @pytest.mark.parametrize("kwargs,exc,word", [
@@ -72,3 +72,75 @@ def test_bad_end_time_and_disorder():
         integrate("lattice", 1.0)
     with pytest.raises(ValueError, match="tau"):
         draw_disorder(8, 100.0, 1, kind="uniform")
+
+
+ADAPTIVE = ["dop853", "cvode-adams", "gsl-rk8pd"]
+BAD_TOLERANCES = [
+    (dict(rtol=0.0), "rtol"),
+    (dict(rtol=-1e-8), "rtol"),
+    (dict(rtol=float("nan")), "rtol"),
+    (dict(rtol=float("inf")), "rtol"),
+    (dict(atol=0.0), "atol"),
+    (dict(atol=-1e-12), "atol"),
+    (dict(atol=float("nan")), "atol"),
+]
+
+
+@pytest.mark.parametrize("method", ADAPTIVE)
+@pytest.mark.parametrize("kwargs,word", BAD_TOLERANCES)
+def test_bad_tolerances(kwargs, word, method):
+    lat = Lattice(4)
+    with pytest.raises(ValueError, match=rf"{word} must be finite and > 0"):
+        Integrator(lat, lat.mode_state(), method=method, **kwargs)
+    with pytest.raises(ValueError, match=rf"{word} must be finite and > 0"):
+        integrate(lat, 1.0, method=method, **kwargs)
+
+
+@pytest.mark.parametrize("method", ["yoshida4", "dop853", "cvode-adams"])
+@pytest.mark.parametrize("t0", [float("nan"), float("inf"), -float("inf")])
+def test_non_finite_start_time(t0, method):
+    lat = Lattice(4)
+    with pytest.raises(ValueError, match="t0 must be finite"):
+        Integrator(lat, lat.mode_state(), method=method, t0=t0)
+
+
+@pytest.mark.parametrize("t0", [float("nan"), float("inf"), -float("inf")])
+def test_non_finite_start_time_integrate(t0):
+    with pytest.raises(ValueError):
+        integrate(Lattice(4), 1.0, t0=t0)
+
+
+@pytest.mark.parametrize("t0", [float("nan"), float("inf"), -float("inf")])
+def test_non_finite_start_time_integrate_names_t0(t0):
+    with pytest.raises(ValueError, match="t0 must be finite"):
+        integrate(Lattice(4), 1.0, t0=t0)
+
+
+@pytest.mark.parametrize("method,package,flag", [
+    ("dop853", "ARKODE", "ARK_TOO_MUCH_WORK"),
+    ("dopri5", "ARKODE", "ARK_TOO_MUCH_WORK"),
+    ("cvode-adams", "CVODE", "CV_TOO_MUCH_WORK"),
+    ("cvode-bdf", "CVODE", "CV_TOO_MUCH_WORK"),
+])
+def test_too_much_work_carries_the_sundials_flag(method, package, flag):
+    lat = Lattice(4)
+    integ = Integrator(lat, lat.mode_state(), method=method, max_steps=5)
+    with pytest.raises(FputlabError) as info:
+        integ.advance(1e3)
+    err = info.value
+    # a back-end failure, not a blow-up (the state is finite): not an IntegrationError
+    assert not isinstance(err, IntegrationError)
+    assert err.status == -5                                     # FPL_ERR_BACKEND
+    msg = str(err)
+    assert f"{package} {method} failed at t = " in msg
+    assert f"flag -1 ({flag})" in msg                           # SUNDIALS' flag and its name
+    assert "mxstep steps taken before reaching tout" in msg     # and SUNDIALS' own message
+    t_fail = float(msg.split("failed at t = ")[1].split(":")[0])
+    assert 0.0 < t_fail < 1e3
+    assert np.all(np.isfinite(integ.state))
+
+
+def test_too_much_work_gsl():
+    lat = Lattice(4)
+    with pytest.raises(FputlabError, match=r"GSL gsl-rk8pd failed at t = .*max_steps = 5 steps"):
+        Integrator(lat, lat.mode_state(), method="gsl-rk8pd", max_steps=5).advance(1e3)

@@ -137,3 +137,36 @@ def test_lattice_pickles_with_its_disorder():
     back = pickle.loads(pickle.dumps(lat))
     np.testing.assert_array_equal(back.v, lat.v)
     assert (back.seed, back.model, back.tau) == (9, "hamiltonian", 10.0)
+
+
+def paper_energy(x, p, a, b=0.0):
+    """Eq. (Hamilt) written out with numpy: 1/2 sum p^2 + sum over the N + 1 bonds of
+    V(d) = d^2/2 + a d^3/3 + b d^4/4, d_j = x_{j+1} - x_j, fixed ends x_0 = x_{N+1} = 0."""
+    d = np.diff(np.concatenate([[0.0], x, [0.0]]))
+    return 0.5 * np.sum(p**2) + np.sum(d**2 / 2 + a * d**3 / 3 + b * d**4 / 4)
+
+
+@pytest.mark.parametrize("beta", [0.0, 0.3])
+@pytest.mark.parametrize("N", [2, 13, 64])
+def test_model3_energy_is_the_paper_hamiltonian(N, beta, rng):
+    # model 3 (Eq. varnonlin) is not Hamiltonian; its "energy" is Eq. (Hamilt) evaluated on the
+    # state, independent of the disorder v
+    lat = Lattice(N, 0.25, "nonlinear", beta=beta, tau=20.0, seed=5)
+    assert np.std(lat.v) > 0.01
+    ys = 0.5 * rng.standard_normal((4, 2 * N))
+    expected = np.array([paper_energy(y[:N], y[N:], 0.25, beta) for y in ys])
+    np.testing.assert_allclose(lat.energy(ys), expected, rtol=1e-13, atol=1e-15)
+    assert lat.energy(ys[0]) == pytest.approx(expected[0], rel=1e-13)
+    # the same state on the homogeneous chain (model 1) has the same energy
+    np.testing.assert_allclose(Lattice(N, 0.25, beta=beta).energy(ys), expected, rtol=1e-13)
+    # closed form: only x_1 = s displaced, bonds d_0 = s, d_1 = -s (cubic terms cancel)
+    for s in (0.7, -0.7):
+        y = np.zeros(2 * N)
+        y[0] = s
+        assert lat.energy(y) == pytest.approx(s**2 + beta * s**4 / 2, rel=1e-14)
+    # x_1 = s, x_2 = 2s, p_1 = 0.2: bonds s, s, -2s, energy 0.02 + 3 s^2 - 2 alpha s^3 + 4.5 beta s^4
+    for s in (0.3, -0.3):
+        y = np.zeros(2 * N)
+        y[0], y[1], y[N] = s, 2 * s, 0.2
+        assert lat.energy(y) == pytest.approx(0.02 + 3 * s**2 - 0.5 * s**3 + 4.5 * beta * s**4,
+                                              rel=1e-14)
