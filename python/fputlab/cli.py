@@ -82,6 +82,28 @@ def _run_summary(s) -> dict:
     return out
 
 
+def _summary_h5(path, summary: dict):
+    """A command's summary as HDF5: numbers and strings as attributes, numeric lists as datasets,
+    dicts as groups, anything else as a JSON string attribute."""
+    import h5py
+    from . import __version__
+
+    def put(g, d):
+        for k, v in d.items():
+            if isinstance(v, dict):
+                put(g.create_group(k), v)
+            elif isinstance(v, (list, tuple, np.ndarray)):
+                try:
+                    g.create_dataset(k, data=np.asarray(v, dtype=float))
+                except (TypeError, ValueError):
+                    g.attrs[k] = json.dumps(v, default=float)
+            elif v is not None:
+                g.attrs[k] = v
+    with h5py.File(path, "w") as f:
+        f.attrs["fputlab_version"] = __version__
+        put(f, summary)
+
+
 def cmd_simulate(a):
     if a.checkpoint and not a.out:
         raise ValueError("--checkpoint needs --out (the results file it belongs to)")
@@ -274,6 +296,9 @@ def cmd_tauc(a):
                "note": "exact: root of the closed-form E[B~](tau); fit: root of a quadratic fit "
                        "to the R-realisation mean (the paper's method, 10.0749 %); "
                        "per_realisation: each realisation's own B~(tau) = 0"}
+    if a.out:
+        _summary_h5(a.out, summary)
+        summary["out"] = a.out
     _emit(summary, a.json)
     return 0
 
@@ -299,6 +324,9 @@ def cmd_bifurcation(a):
     if a.plot:
         from .figures_reduction import fig7
         summary["plot"] = fig7(a.plot, N=a.N)["path"]
+    if a.out:
+        _summary_h5(a.out, summary)
+        summary["out"] = a.out
     _emit(summary, a.json)
     return 0
 
@@ -418,6 +446,7 @@ def build_parser():
     s.add_argument("--fit-taus", type=float, nargs="+", default=None,
                    help="tau grid of the fit (default 0, 0.5, ..., 20)")
     s.add_argument("--json", action="store_true")
+    s.add_argument("--out", help="HDF5 file with the summary")
     s.set_defaults(func=cmd_tauc)
 
     s = sub.add_parser("bifurcation", help="reduced (P, Delta, theta) system at (A~, B~): C, "
@@ -430,6 +459,7 @@ def build_parser():
                    help="particles: r_1^2 = (N+1)/8 of the paper's initial state (default 64)")
     s.add_argument("--plot", help="PNG of the (A~, B~) bifurcation diagram (Fig. 7)")
     s.add_argument("--json", action="store_true")
+    s.add_argument("--out", help="HDF5 file with the summary")
     s.set_defaults(func=cmd_bifurcation)
 
     s = sub.add_parser("figures", help="regenerate the paper's figures as PNGs")

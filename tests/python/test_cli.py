@@ -77,7 +77,9 @@ def test_bad_input_is_reported_not_raised(capsys):
 
 
 def test_figures_quick(tmp_path):
-    assert main(["figures", "--out", str(tmp_path), "--only", "3", "7"]) == 0
+    assert main(["figures", "--out", str(tmp_path), "--only", "2", "3", "7", "11"]) == 0
+    assert (tmp_path / "fig02_disorder_recurrence.png").stat().st_size > 10_000
+    assert (tmp_path / "fig11_chaos_homogeneous.png").stat().st_size > 10_000
     assert (tmp_path / "fig03_blowup.png").stat().st_size > 10_000
     assert (tmp_path / "fig07_bifurcation.png").stat().st_size > 10_000
 
@@ -92,3 +94,15 @@ def test_progress_bars_change_nothing():
     big = fputlab.Lattice(64, 0.25, "nonlinear", tau=20, seed=1)
     e1, e2 = (fputlab.blowup.blowup_time(big, 4000.0, progress=p) for p in (False, True))
     assert e1.blew_up and e1.time == e2.time and e1.criterion == e2.criterion
+
+
+def test_tauc_and_bifurcation_write_hdf5(tmp_path, capsys):
+    out = tmp_path / "b.h5"
+    assert main(["bifurcation", "--A-tilde", "3.63", "--B-tilde", "0.91", "--out", str(out)]) == 0
+    with h5py.File(out) as f:
+        eqs = json.loads(f.attrs["equilibria"])
+        assert [round(e["delta"], 2) for e in eqs] == [5.09, 4.34]
+    out = tmp_path / "t.h5"
+    assert main(["tauc", "--R", "20", "--out", str(out)]) == 0
+    with h5py.File(out) as f:
+        assert abs(f.attrs["tau_c_exact"] - 10.2578) < 1e-3      # closed-form expectation
