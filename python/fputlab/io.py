@@ -36,18 +36,19 @@ STATUSES = ("running", "completed", "event", "failed", "interrupted")
 class _RunInfo:
     """fpl_run_info with the C strings it points to kept alive."""
 
-    def __init__(self, lattice: Lattice, kind: str, method: str, integ: Integrator | None,
-                 t0: float, n_dev: int, store_states: bool = False, chunk_rows: int = 0):
+    def __init__(self, lattice: Lattice, kind: str, method: str, dt: float, rtol: float,
+                 atol: float, t0: float, n_dev: int, store_states: bool = False,
+                 chunk_rows: int = 0):
         self._keep = []
         self.c = ffi.new("fpl_run_info *")
         lib.fpl_run_info_init(self.c)
         self.c.kind = self._str(kind)
         self.c.method = self._str(method)
+        # as the checkpoint records them: the options the method actually uses, NaN for the others
         adaptive = method_info(method)["adaptive"]
-        if integ is not None:
-            self.c.dt = float("nan") if adaptive else integ.dt
-            self.c.rtol = integ.rtol if adaptive else float("nan")
-            self.c.atol = integ.atol if adaptive else float("nan")
+        nan = float("nan")
+        self.c.dt = nan if adaptive else dt
+        self.c.rtol, self.c.atol = (rtol, atol) if adaptive else (nan, nan)
         self.c.t0 = t0
         self.c.n_dev = n_dev
         self.c.tau = float("nan") if lattice.tau is None else lattice.tau
@@ -254,8 +255,8 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     set_criteria(lattice, stop_on)
     try:
         integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol)
-        integ.rtol, integ.atol = rtol, atol
-        info = _RunInfo(lattice, "simulate", method, integ, 0.0, integ.n_dev, store_states, chunk_rows)
+        info = _RunInfo(lattice, "simulate", method, integ.dt, rtol, atol, 0.0, integ.n_dev,
+                        store_states, chunk_rows)
         resumed = None
         if checkpoint is not None and resume and os.path.exists(checkpoint):
             load_checkpoint(checkpoint, integ._h, info)
@@ -356,12 +357,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
                                out_h))
     c = ffi.gc(out_h[0], lambda h: lib.fpl_chaos_free(ffi.new("fpl_chaos **", h)))
     ih = lib.fpl_chaos_integrator(c)
-
-    class _I:  # what _RunInfo reads from an integrator
-        pass
-    integ = _I()
-    integ.dt, integ.rtol, integ.atol = iopt.dt, iopt.rtol, iopt.atol
-    info = _RunInfo(lattice, "chaos", method, integ, 0.0, copt.n_dev)
+    info = _RunInfo(lattice, "chaos", method, iopt.dt, iopt.rtol, iopt.atol, 0.0, copt.n_dev)
     n_acc = lib.FPL_CHAOS_N_ACCUMULATORS
     resumed = None
     if checkpoint is not None and resume and os.path.exists(checkpoint):
