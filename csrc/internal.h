@@ -57,6 +57,14 @@ struct fpl_lattice {
     void *fft_wavetable;
     void *fft_workspace;
     double *ek;     /* N scratch: mode energies for event criteria */
+    /* Harmonic-split schemes (harmonic_split.c), allocated by their prepare hook: */
+    double *modework;               /* 2N + 2 dim scratch: real-space x and f, two mode states */
+    size_t modework_cap;            /* doubles allocated in modework */
+    double *rot;                    /* 2N per drift: shear coefficients of the mode rotations */
+    int rot_reps;                   /* sub-rotations per drift */
+    size_t rot_cap;                 /* doubles allocated in rot */
+    double rot_dt;                  /* step the rotations are for (NaN: none) */
+    const fpl_splitting *rot_scheme;
     fpl_event_set events;          /* stopping criteria (events.c) */
     char event_desc[8][96];
     char errmsg[FPL_ERRMSG_LEN];
@@ -88,18 +96,38 @@ struct fpl_splitting {
     const double *drift;   /* a_0..a_s */
     const double *kick;    /* b_0..b_{s-1} */
     fpl_step_fn step;
+    /* Optional: check that the scheme applies to the lattice and set up what its step needs
+     * (called once per run before any step; the step itself never allocates). */
+    int (*prepare)(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
     const char *reference;
 };
+/* Drift-kick composition: A = x += h p/m (kinetic), B = p += h F(x) (whole force). */
 void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev, double dt);
+/* Near-integrable composition (harmonic_split.c): A = exact flow of the harmonic chain (each
+ * normal mode rotated by w_k h), B = kick by the anharmonic force only. */
+void fpl_step_harmonic(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
+                       double dt);
+int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
+/* Run a scheme's prepare hook, if it has one, for states with n_dev deviation vectors. */
+int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
 
 extern const fpl_splitting fpl_scheme_leapfrog;
 extern const fpl_splitting fpl_scheme_yoshida4;
 extern const fpl_splitting fpl_scheme_aba864;
+extern const fpl_splitting fpl_scheme_aba864_harmonic;
 extern const fpl_splitting fpl_scheme_srkn14a6;
 
 /* Sine-transform workspace owned by the lattice (modes.c). */
 int fpl_modes_alloc(fpl_lattice *lat);
 void fpl_modes_release(fpl_lattice *lat);
+/* Orthogonal, symmetric type-I sine transform (its own inverse); in == out allowed. */
+int fpl_modes_sine(fpl_lattice *lat, const double *in, double *out);
+
+/* Anharmonic part of the force (bond forces alpha R^2 + beta R^3, R from cn) for lattices whose
+ * linear part is the homogeneous chain; keeps kappa_b = 2 alpha R + 3 beta R^2 in lat->kappa
+ * for fpl_kernel_anharmonic_tangent (df = J_anh(x) dx at the same x). */
+void fpl_kernel_anharmonic_force(fpl_lattice *lat, const double *x, double *f);
+void fpl_kernel_anharmonic_tangent(fpl_lattice *lat, const double *dx, double *df);
 
 int fpl_is_finite_array(const double *a, long len, long *first_bad);
 

@@ -105,6 +105,8 @@ void fpl_lattice_free(fpl_lattice **lattice)
     free(lat->dphi);
     free(lat->fft);
     free(lat->ek);
+    free(lat->modework);
+    free(lat->rot);
     free(lat);
     *lattice = NULL;
 }

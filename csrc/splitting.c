@@ -9,6 +9,7 @@ static const fpl_splitting *const schemes[] = {
     &fpl_scheme_leapfrog,
     &fpl_scheme_yoshida4,
     &fpl_scheme_aba864,
+    &fpl_scheme_aba864_harmonic,
     &fpl_scheme_srkn14a6,
 };
 #define N_SCHEMES ((int)(sizeof schemes / sizeof schemes[0]))
@@ -67,6 +68,11 @@ void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int 
     drift(lat, y, n_dev, scheme->drift[s] * dt);
 }
 
+int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev)
+{
+    return scheme->prepare ? scheme->prepare(scheme, lat, n_dev) : FPL_OK;
+}
+
 static int check_step(fpl_lattice *lat, double dt)
 {
     if (!(dt > 0.0) || !isfinite(dt))
@@ -89,6 +95,8 @@ int fpl_splitting_advance(const fpl_splitting *scheme, fpl_lattice *lattice, dou
     long len = 2L * lattice->n * (n_dev + 1), bad = -1;
     if (!fpl_is_finite_array(y, len, &bad))
         return fpl_error(lattice, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
+    st = fpl_splitting_prepare(scheme, lattice, n_dev);
+    if (st) return st;
     for (long k = 0; k < nsteps; k++)
         scheme->step(scheme, lattice, y, n_dev, dt);
     if (!fpl_is_finite_array(y, len, &bad))

@@ -6,7 +6,14 @@
  * Math. Eng. 1, 447 (2019) for FPUT. Order 4 generically; for H = A + eps B the error is
  * O(eps h^8 + eps^2 h^6 + eps^3 h^4) (hence "8,6,4").
  * Coefficients (40 digits, as published) cross-checked against REBOUND src/integrator_saba.c
- * (REB_SABA_8_6_4) and the Skokos-group codes: sum of drifts = sum of kicks = 1. */
+ * (REB_SABA_8_6_4) and the Skokos-group codes: sum of drifts = sum of kicks = 1.
+ *
+ * Two tables share the coefficients, because the scheme's orders depend on the split:
+ *  "aba864"          A = kinetic drift, B = the whole force (any model). Here B is not small,
+ *                    so the order is 4 at every amplitude (only the error constant is small).
+ *  "aba864-harmonic" A = exact normal-mode rotation of the harmonic chain, B = the anharmonic
+ *                    force (harmonic_split.c; models 1 and 3). B is eps-small at small
+ *                    amplitude: the (8,6,4) orders of the method's name. */
 #include "../internal.h"
 
 #define A1 0.0711334264982231177779387300061549964174
@@ -28,6 +35,19 @@ const fpl_splitting fpl_scheme_aba864 = {
     .drift = drift,
     .kick = kick,
     .step = fpl_step_aba,
+    .prepare = NULL,
     .reference = "Blanes, Casas, Farres, Laskar, Makazaga & Murua, Appl. Numer. Math. 68, 58 (2013), "
                  "ABA(8,6,4)",
+};
+
+const fpl_splitting fpl_scheme_aba864_harmonic = {
+    .name = "aba864-harmonic",
+    .order = 4,
+    .n_kicks = 7,
+    .drift = drift,
+    .kick = kick,
+    .step = fpl_step_harmonic,
+    .prepare = fpl_harmonic_prepare,
+    .reference = "Blanes, Casas, Farres, Laskar, Makazaga & Murua, Appl. Numer. Math. 68, 58 (2013), "
+                 "ABA(8,6,4) on the near-integrable split harmonic chain + anharmonic force",
 };

@@ -182,7 +182,7 @@ def test_every_criterion_same_event_time_splitting_arkode_cvode(late_state, crit
 
 @pytest.mark.parametrize("crit", CRITERIA, ids=CRIT_IDS)
 @pytest.mark.parametrize("method,dt", [("leapfrog", 0.002), ("aba864", 0.05),
-                                       ("srkn14a6", 0.1)])
+                                       ("srkn14a6", 0.1), ("aba864-harmonic", 0.05)])
 def test_in_step_locator_every_scheme(late_state, crit, method, dt):
     # the event falls inside a step: a locator returning the step's end would be off by up to
     # dt (> 1e-6 relative here for every scheme)

@@ -65,6 +65,23 @@ def test_bad_integration_arguments(kwargs, exc, word):
         integrate(Lattice(4), 1.0, **kwargs)
 
 
+def test_harmonic_split_refuses_varying_linear_couplings():
+    # model 2's linear part is not the sine-transform chain: a clear refusal naming the method
+    # and the alternative, from the run API, the Integrator and the chaos indicators alike
+    lat = Lattice(8, 0.25, "hamiltonian", tau=10.0, seed=1)
+    with pytest.raises(ValueError, match="aba864-harmonic.*use 'aba864'"):
+        integrate(lat, 1.0, method="aba864-harmonic", dt=0.1)
+    with pytest.raises(ValueError, match="aba864-harmonic"):
+        Integrator(lat, lat.mode_state(), method="aba864-harmonic", dt=0.1)
+    from fputlab import chaos
+    with pytest.raises(ValueError, match="aba864-harmonic"):
+        chaos.lyapunov(lat, 10.0, method="aba864-harmonic", dt=0.1)
+    # the models it applies to run
+    for model in ("homogeneous", "nonlinear"):
+        lat = Lattice(8, 0.25, model, **({} if model == "homogeneous" else dict(tau=10, seed=1)))
+        assert integrate(lat, 1.0, method="aba864-harmonic", dt=0.1).t[-1] == 1.0
+
+
 def test_bad_end_time_and_disorder():
     with pytest.raises(ValueError, match="t_end"):
         integrate(Lattice(4), -1.0)
