@@ -1,162 +1,200 @@
 /* Near-integrable splitting of the lattice: H = H_harm + H_anh with
- *   H_harm = sum_i p_i^2/2 + sum_b (x_b - x_{b-1})^2/2 = sum_k (P_k^2 + w_k^2 Q_k^2)/2,
- *   H_anh  = sum_b (alpha R_b^3/3 + beta R_b^4/4),     w_k = 2 sin(k pi / (2(N+1))),
- * (Q, P) the normal-mode coordinates of the fixed-end chain (orthogonal sine transform).
- * A = exact flow of H_harm: every mode turns by the angle w_k h,
- *   Q <- cos(w h) Q + sin(w h)/w P,   P <- -w sin(w h) Q + cos(w h) P;
- * B = kick by the anharmonic force alone, p <- p + h F_anh(x).
+ *   H_harm = sum_i p_i^2/2 + sum_b (x_b - x_{b-1})^2/2 = p.p/2 + x.Kx/2,   K = tridiag(-1, 2, -1),
+ *   H_anh  = sum_b (alpha R_b^3/3 + beta R_b^4/4).
+ * A = exact flow of H_harm (every normal mode turns by the angle w_k h, w_k^2 the eigenvalues
+ * of K, in (0, 4)); B = kick by the anharmonic force alone, p <- p + h F_anh(x).
  * For a lattice whose nonlinearity is eps-small this is the setting in which schemes such as
  * ABA(8,6,4) (Blanes et al. 2013; the SABA family of Laskar & Robutel 2001) reach their
  * eps-dependent orders: error O(eps h^8 + eps^2 h^6 + eps^3 h^4) instead of a generic h^4.
  *
  * The split applies when the linear part is exactly the homogeneous chain: cl = s = minv = 1,
- * i.e. model 1, and model 3 (disorder in the nonlinear couplings only; then B is not a gradient
- * but the composition is still a consistent order-p scheme for x'' = F(x)). Model 2's linear
- * couplings vary, its normal modes are not a sine transform: refused by the prepare hook.
+ * i.e. model 1, and model 3 (disorder in the nonlinear couplings only; there B is not a
+ * gradient but the composition is still a consistent order-p scheme for x'' = F(x)). Model 2's
+ * linear couplings vary: refused by the prepare hook.
  *
- * Cost: the step stays in mode space between stages, so a step of s kicks takes 2s + 4 sine
- * transforms (FFT, O(N log N)) per vector instead of O(N) kicks; worth it when the accuracy
- * gained at small nonlinearity pays for the transforms. Deviation vectors: A is linear (its
- * tangent map is itself); B's tangent map is dp += h J_anh(x) dx. */
+ * How A is computed: as three shears, all in real space,
+ *   x += T(K) p,   p -= S(K) x,   x += T(K) p,
+ *   T(lambda) = tan(h sqrt(lambda)/2)/sqrt(lambda),   S(lambda) = sqrt(lambda) sin(h sqrt(lambda)),
+ * which is the rotation of every mode by h w_k (the half-angle shear factorisation). T and S are
+ * entire in lambda on the spectrum and are applied as Chebyshev series in K (Clenshaw, one
+ * tridiagonal product per degree), truncated where the coefficients fall below 1e-17: the flow is
+ * exact to round-off, costs O(N) per degree (no sine transform: its FFT costs depend on the
+ * factors of N+1 and are 10-1000x slower for the usual N = 2^k), and vectorises.
+ * Why shears: a shear x += A p with A a polynomial in the symmetric K is symplectic whatever the
+ * rounding of its coefficients; a rotation matrix with rounded cos/sin entries is not (its
+ * determinant is 1 + O(1e-16) with a fixed sign, and the energy drifts linearly; measured
+ * 5e-12 by t = 1e3 for N = 64 at dt = 0.05 in a first version, against 1e-14 now).
+ * Deviation vectors: A is linear (its tangent map is itself); B's is dp += h J_anh(x) dx. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "internal.h"
+
+#define NODES 64          /* Chebyshev interpolation nodes for the coefficients */
+#define COEF_TOL 1e-17    /* truncate where |c_k| < COEF_TOL (relative to the series' scale) */
+#define MAX_ANGLE 1.0     /* largest w h per sub-rotation (keeps the degrees ~ 10-20) */
 
 int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev)
 {
+    (void)n_dev; /* the scratch does not depend on it: vectors are processed one at a time */
     const int n = lat->n;
     for (int j = 0; j < n; j++) {
         if (lat->cl[j] != 1.0 || lat->s[j] != 1.0 || lat->minv[j] != 1.0)
             return fpl_error(lat, FPL_ERR_ARG,
-                             "method '%s' integrates the harmonic chain exactly in normal modes, "
-                             "which needs uniform linear couplings and masses (models "
-                             "'homogeneous' and 'nonlinear'); this '%s' lattice has v[%d] = %g "
-                             "in its linear part: use 'aba864' instead",
+                             "method '%s' integrates the harmonic chain exactly, which needs "
+                             "uniform linear couplings and masses (models 'homogeneous' and "
+                             "'nonlinear'); this '%s' lattice has v[%d] = %g in its linear part: "
+                             "use 'aba864' instead",
                              scheme->name, lat->ops->name, j, lat->v[j]);
     }
-    const size_t dim = 2 * (size_t)n * ((size_t)n_dev + 1);
-    const size_t work = 2 * (size_t)n + 2 * dim;
-    if (lat->modework_cap < work) {
-        double *w = realloc(lat->modework, sizeof(double) * work);
-        if (!w)
-            return fpl_error(lat, FPL_ERR_NOMEM, "out of memory (mode-space scratch, N = %d)", n);
-        lat->modework = w;
-        lat->modework_cap = work;
-    }
-    const size_t need = 2 * (size_t)n * (size_t)(scheme->n_kicks + 1);
-    if (lat->rot_cap < need) {
-        double *rot = realloc(lat->rot, sizeof(double) * need);
-        if (!rot)
-            return fpl_error(lat, FPL_ERR_NOMEM, "out of memory (mode rotations, N = %d)", n);
-        lat->rot = rot;
-        lat->rot_cap = need;
-        lat->rot_scheme = NULL; /* contents no longer match any step */
+    if (scheme->n_kicks + 1 > FPL_HARM_MAX_DRIFTS)
+        return fpl_error(lat, FPL_ERR_ARG, "method '%s': %d drifts, at most %d supported",
+                         scheme->name, scheme->n_kicks + 1, FPL_HARM_MAX_DRIFTS);
+    if (!lat->harm) {
+        lat->harm = calloc(1, sizeof *lat->harm);
+        lat->harmwork = malloc(sizeof(double) * 4 * (size_t)n);
+        if (!lat->harm || !lat->harmwork) {
+            free(lat->harm);
+            free(lat->harmwork);
+            lat->harm = NULL;
+            lat->harmwork = NULL;
+            return fpl_error(lat, FPL_ERR_NOMEM, "out of memory (harmonic split, N = %d)", n);
+        }
     }
     return FPL_OK;
 }
 
-/* The A-flow turns each mode (w Q, P) by theta = w h. As a matrix [[c, s/w], [-w s, c]] the
- * rounded entries give a determinant 1 + O(1e-16) with a fixed sign per mode, applied every
- * drift: the harmonic energy then drifts linearly in time (measured 5e-12 by t = 1e3, N = 64,
- * dt = 0.05, against 6e-14 with shears). The same rotation as three shears,
- *   Q += tan(theta/2)/w P,   P -= w sin(theta) Q,   Q += tan(theta/2)/w P,
- * is exactly area-preserving whatever the rounding of its two coefficients (a shear has
- * determinant 1), so only the phase carries round-off. tan(theta/2) is well conditioned for
- * |theta| <= pi/2; a larger angle (huge steps only) is done as r equal sub-rotations.
- * Coefficients per drift i: tq = tan(theta/2)/w, sp = w sin(theta), theta = w a_i dt / r;
- * recomputed only when dt or the scheme changes (a run keeps one dt; an event search or an
- * off-grid sample pays O(N s) trigonometric calls once). */
-static void rotations(const fpl_splitting *scheme, fpl_lattice *lat, double dt)
+/* Chebyshev coefficients on lambda in [0, 4] (x = lambda/2 - 1) of T (which = 0) or S (1) for
+ * angle parameter h, in long double so that the round-off of the sums (~1e-19) lies below the
+ * truncation level; returns the degree after truncation, or -1 if it exceeds the maximum. */
+static int chebyshev(int which, double h, double *coef)
 {
-    if (lat->rot_scheme == scheme && lat->rot_dt == dt) return;
-    const int n = lat->n, s = scheme->n_kicks;
-    const double w_max = 2.0 * sin(n * M_PI / (2.0 * (n + 1)));
-    double a_max = 0.0;
-    for (int i = 0; i <= s; i++) a_max = fmax(a_max, fabs(scheme->drift[i]));
-    const double r = fmax(1.0, ceil(w_max * a_max * dt / (0.5 * M_PI)));
-    lat->rot_reps = (int)r;
-    for (int i = 0; i <= s; i++) {
-        double *tq = lat->rot + 2 * (size_t)n * i, *sp = tq + n;
-        const double h = scheme->drift[i] * dt / r;
-        for (int k = 1; k <= n; k++) {
-            const double w = 2.0 * sin(k * M_PI / (2.0 * (n + 1)));
-            tq[k - 1] = tan(0.5 * w * h) / w;
-            sp[k - 1] = w * sin(w * h);
-        }
+    long double f[NODES], c[NODES], cs[4 * NODES];
+    const long double pi = 3.141592653589793238462643383279502884L;
+    /* cos(pi k (2j+1) / (2 NODES)) = cs[k (2j+1) mod 4 NODES]: 256 cosines, not 4096 */
+    for (int m = 0; m < 4 * NODES; m++) cs[m] = cosl(pi * m / (2 * NODES));
+    for (int j = 0; j < NODES; j++) {
+        const long double x = cosl(pi * (j + 0.5L) / NODES), lam = 2.0L + 2.0L * x,
+                          w = sqrtl(lam);
+        f[j] = which == 0 ? tanl(0.5L * h * w) / w : w * sinl(h * w);
     }
-    lat->rot_scheme = scheme;
-    lat->rot_dt = dt;
+    long double scale = 0.0L;
+    for (int k = 0; k < NODES; k++) {
+        long double sum = 0.0L;
+        for (int j = 0; j < NODES; j++) sum += f[j] * cs[(k * (2 * j + 1)) % (4 * NODES)];
+        c[k] = (k == 0 ? 1.0L : 2.0L) * sum / NODES;
+        scale += fabsl(c[k]);
+    }
+    int deg = NODES - 1;
+    while (deg > 0 && fabsl(c[deg]) < COEF_TOL * scale) deg--;
+    if (deg > FPL_HARM_MAX_DEGREE || deg > NODES / 2) return -1; /* aliasing would show */
+    for (int k = 0; k <= deg; k++) coef[k] = (double)c[k];
+    return deg;
 }
 
-/* A-flow of drift i on the orbit and every deviation vector, all held in mode space. */
-static void rotate(const fpl_lattice *lat, double *z, int n_dev, int i)
+/* Coefficients for every drift of the scheme at step dt, recomputed only when dt or the scheme
+ * changes (a run keeps one dt; an event search or an off-grid sample pays ~1e3 cosines). */
+static void prepare_step(const fpl_splitting *scheme, fpl_lattice *lat, double dt)
 {
-    const int n = lat->n;
-    const double *restrict tq = lat->rot + 2 * (size_t)n * i, *restrict sp = tq + n;
-    for (int m = 0; m <= n_dev; m++) {
-        double *restrict q = z + 2 * (size_t)n * m, *restrict p = q + n;
-        for (int r = 0; r < lat->rot_reps; r++) {
-            for (int k = 0; k < n; k++) {
-                double qk = q[k] + tq[k] * p[k];
-                const double pk = p[k] - sp[k] * qk;
-                q[k] = qk + tq[k] * pk;
-                p[k] = pk;
+    fpl_harmonic_cache *hc = lat->harm;
+    if (hc->scheme == scheme && hc->dt == dt) return;
+    double a_max = 0.0;
+    for (int i = 0; i <= scheme->n_kicks; i++) a_max = fmax(a_max, fabs(scheme->drift[i]));
+    int reps = (int)fmax(1.0, ceil(2.0 * a_max * dt / MAX_ANGLE)); /* w <= 2 */
+    for (;;) {
+        int ok = 1;
+        for (int i = 0; i <= scheme->n_kicks && ok; i++) {
+            const double h = scheme->drift[i] * dt / reps;
+            for (int which = 0; which < 2 && ok; which++) {
+                hc->deg[i][which] = chebyshev(which, h, hc->coef[i][which]);
+                ok = hc->deg[i][which] >= 0;
             }
         }
+        /* the degree falls with the angle; the cap only guards against a broken libm */
+        if (ok || reps > (1 << 20)) break;
+        reps *= 2;
     }
+    hc->reps = reps;
+    hc->scheme = scheme;
+    hc->dt = dt;
 }
 
-/* B-kick in mode space: x = S Q, f = F_anh(x), P += h S f (S the sine transform, S = S^-1 = S^T);
- * deviation vectors: dx = S dQ, dP += h S J_anh(x) dx. */
-static void kick(fpl_lattice *lat, double *z, int n_dev, double h)
+/* out = sum_k c_k T_k(X) v with X = K/2 - I, (X u)_i = -(u_{i-1} + u_{i+1})/2 (fixed ends), by
+ * Clenshaw's recurrence b_k = c_k v + 2 X b_{k+1} - b_{k+2}; out = c_0 v + X b_1 - b_2.
+ * work: 3N scratch. */
+FPL_HOT static void chebyshev_apply(int n, const double *restrict c, int deg,
+                                    const double *restrict v, double *restrict out,
+                                    double *restrict work)
 {
-    const int n = lat->n;
-    double *x = lat->modework, *f = lat->modework + n;
-    fpl_modes_sine(lat, z, x);
-    fpl_kernel_anharmonic_force(lat, x, f);
-    fpl_modes_sine(lat, f, f);
-    for (int k = 0; k < n; k++) z[n + k] += h * f[k];
-    for (int m = 1; m <= n_dev; m++) {
-        double *dq = z + 2 * (size_t)n * m, *dp = dq + n;
-        fpl_modes_sine(lat, dq, x);
-        fpl_kernel_anharmonic_tangent(lat, x, f);
-        fpl_modes_sine(lat, f, f);
-        for (int k = 0; k < n; k++) dp[k] += h * f[k];
+    double *b0 = work, *b1 = work + n, *b2 = work + 2 * (size_t)n;
+    for (int i = 0; i < n; i++) b1[i] = b2[i] = 0.0;
+    for (int k = deg; k >= 1; k--) {
+        const double ck = c[k];
+        double *restrict nb = b0;
+        const double *restrict p1 = b1, *restrict p2 = b2;
+        nb[0] = ck * v[0] - p1[1] - p2[0];
+        for (int i = 1; i < n - 1; i++)
+            nb[i] = ck * v[i] - (p1[i - 1] + p1[i + 1]) - p2[i];
+        nb[n - 1] = ck * v[n - 1] - p1[n - 2] - p2[n - 1];
+        double *t = b2; /* rotate: b2 <- b1, b1 <- b0, b0 <- old b2 */
+        b2 = b1;
+        b1 = b0;
+        b0 = t;
     }
+    out[0] = c[0] * v[0] - 0.5 * b1[1] - b2[0];
+    for (int i = 1; i < n - 1; i++)
+        out[i] = c[0] * v[i] - 0.5 * (b1[i - 1] + b1[i + 1]) - b2[i];
+    out[n - 1] = c[0] * v[n - 1] - 0.5 * b1[n - 2] - b2[n - 1];
 }
 
-/* All vectors of y (real space) into z (mode space) by the sine transform. */
-static void to_modes(fpl_lattice *lat, const double *y, double *z, int n_dev)
+FPL_HOT static void axpy(int n, double a, const double *restrict x, double *restrict y)
+{
+    for (int i = 0; i < n; i++) y[i] += a * x[i];
+}
+
+/* A-flow of drift i on the orbit and every deviation vector. */
+static void rotate(fpl_lattice *lat, double *y, int n_dev, int i)
 {
     const int n = lat->n;
+    const fpl_harmonic_cache *hc = lat->harm;
+    double *tmp = lat->harmwork, *work = tmp + n;
+    const double *ct = hc->coef[i][0], *cs = hc->coef[i][1];
+    const int dt_ = hc->deg[i][0], ds = hc->deg[i][1];
     for (int m = 0; m <= n_dev; m++) {
-        const size_t o = 2 * (size_t)n * m;
-        fpl_modes_sine(lat, y + o, z + o);
-        fpl_modes_sine(lat, y + o + n, z + o + n);
+        double *x = y + 2 * (size_t)n * m, *p = x + n;
+        for (int r = 0; r < hc->reps; r++) {
+            chebyshev_apply(n, ct, dt_, p, tmp, work);
+            axpy(n, 1.0, tmp, x);
+            chebyshev_apply(n, cs, ds, x, tmp, work);
+            axpy(n, -1.0, tmp, p);
+            chebyshev_apply(n, ct, dt_, p, tmp, work);
+            axpy(n, 1.0, tmp, x);
+        }
     }
 }
 
-/* The step moves to mode space and back. In floating point the pair S S is the identity only
- * up to a systematic ~1e-16 scaling (the rounded normalisation), and taking the whole state
- * through it every step made the energy drift linearly (measured with the shear rotations:
- * 6e-12 by t = 1e3 at dt = 0.05, N = 64). So only the step's change crosses back:
- * y += S (z_end - z_start) with z_start = S y; the bias then scales the change, not the state
- * (measured 6e-14, round-off level). */
+/* B-kick: p += h F_anh(x); deviation vectors dp += h J_anh(x) dx. */
+static void kick(fpl_lattice *lat, double *y, int n_dev, double h)
+{
+    const int n = lat->n;
+    double *f = lat->harmwork;
+    fpl_kernel_anharmonic_force(lat, y, f);
+    axpy(n, h, f, y + n);
+    for (int m = 1; m <= n_dev; m++) {
+        double *dx = y + 2 * (size_t)n * m;
+        fpl_kernel_anharmonic_tangent(lat, dx, f);
+        axpy(n, h, f, dx + n);
+    }
+}
+
 void fpl_step_harmonic(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
                        double dt)
 {
-    const int n = lat->n, s = scheme->n_kicks;
-    const size_t dim = 2 * (size_t)n * ((size_t)n_dev + 1);
-    double *z = lat->modework + 2 * (size_t)n, *z0 = z + dim;
-    rotations(scheme, lat, dt);
-    to_modes(lat, y, z0, n_dev);
-    for (size_t i = 0; i < dim; i++) z[i] = z0[i];
+    const int s = scheme->n_kicks;
+    prepare_step(scheme, lat, dt);
     for (int i = 0; i < s; i++) {
-        rotate(lat, z, n_dev, i);
-        kick(lat, z, n_dev, scheme->kick[i] * dt);
+        rotate(lat, y, n_dev, i);
+        kick(lat, y, n_dev, scheme->kick[i] * dt);
     }
-    rotate(lat, z, n_dev, s);
-    for (size_t i = 0; i < dim; i++) z[i] -= z0[i];
-    to_modes(lat, z, z, n_dev);
-    for (size_t i = 0; i < dim; i++) y[i] += z[i];
+    rotate(lat, y, n_dev, s);
 }

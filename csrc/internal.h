@@ -58,13 +58,8 @@ struct fpl_lattice {
     void *fft_workspace;
     double *ek;     /* N scratch: mode energies for event criteria */
     /* Harmonic-split schemes (harmonic_split.c), allocated by their prepare hook: */
-    double *modework;               /* 2N + 2 dim scratch: real-space x and f, two mode states */
-    size_t modework_cap;            /* doubles allocated in modework */
-    double *rot;                    /* 2N per drift: shear coefficients of the mode rotations */
-    int rot_reps;                   /* sub-rotations per drift */
-    size_t rot_cap;                 /* doubles allocated in rot */
-    double rot_dt;                  /* step the rotations are for (NaN: none) */
-    const fpl_splitting *rot_scheme;
+    struct fpl_harmonic_cache *harm; /* Chebyshev coefficients of the drifts for one dt */
+    double *harmwork;                /* 4N scratch */
     fpl_event_set events;          /* stopping criteria (events.c) */
     char event_desc[8][96];
     char errmsg[FPL_ERRMSG_LEN];
@@ -108,6 +103,15 @@ void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int 
 void fpl_step_harmonic(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
                        double dt);
 int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
+#define FPL_HARM_MAX_DRIFTS 16
+#define FPL_HARM_MAX_DEGREE 32
+typedef struct fpl_harmonic_cache {
+    const struct fpl_splitting *scheme; /* coefficients are for this scheme and dt */
+    double dt;
+    int reps;                           /* sub-rotations per drift */
+    int deg[FPL_HARM_MAX_DRIFTS][2];    /* degrees of T and S per drift */
+    double coef[FPL_HARM_MAX_DRIFTS][2][FPL_HARM_MAX_DEGREE + 1];
+} fpl_harmonic_cache;
 /* Run a scheme's prepare hook, if it has one, for states with n_dev deviation vectors. */
 int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
 
@@ -120,8 +124,6 @@ extern const fpl_splitting fpl_scheme_srkn14a6;
 /* Sine-transform workspace owned by the lattice (modes.c). */
 int fpl_modes_alloc(fpl_lattice *lat);
 void fpl_modes_release(fpl_lattice *lat);
-/* Orthogonal, symmetric type-I sine transform (its own inverse); in == out allowed. */
-int fpl_modes_sine(fpl_lattice *lat, const double *in, double *out);
 
 /* Anharmonic part of the force (bond forces alpha R^2 + beta R^3, R from cn) for lattices whose
  * linear part is the homogeneous chain; keeps kappa_b = 2 alpha R + 3 beta R^2 in lat->kappa

@@ -105,8 +105,8 @@ void fpl_lattice_free(fpl_lattice **lattice)
     free(lat->dphi);
     free(lat->fft);
     free(lat->ek);
-    free(lat->modework);
-    free(lat->rot);
+    free(lat->harm);
+    free(lat->harmwork);
     free(lat);
     *lattice = NULL;
 }

@@ -23,7 +23,7 @@ void fpl_modes_release(fpl_lattice *lat)
 /* out_k = sqrt(2/(N+1)) sum_j in_j sin(pi j k/(N+1)), k = 1..N.  For the odd extension
  * y (length M = 2(N+1)), Y_k = sum y_j e^{-2 pi i jk/M} = -2i sum_j in_j sin(pi jk/(N+1)),
  * and GSL's half-complex output stores Im Y_k at index 2k. */
-int fpl_modes_sine(fpl_lattice *lat, const double *in, double *out)
+static int sine_transform(fpl_lattice *lat, const double *in, double *out)
 {
     const int n = lat->n;
     const size_t m = 2 * ((size_t)n + 1);
@@ -56,7 +56,7 @@ int fpl_modes_transform(fpl_lattice *lattice, const double *x, double *q)
 {
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
     if (!x || !q) return fpl_error(lattice, FPL_ERR_ARG, "x/q: NULL pointer");
-    return fpl_modes_sine(lattice, x, q);
+    return sine_transform(lattice, x, q);
 }
 
 int fpl_modes_energies(fpl_lattice *lattice, const double *y, double *energies)
@@ -66,9 +66,9 @@ int fpl_modes_energies(fpl_lattice *lattice, const double *y, double *energies)
     const int n = lattice->n;
     double *vel = lattice->dphi; /* N+1 scratch, free outside the kicks */
     fpl_lattice_velocity(lattice, y, vel);
-    int st = fpl_modes_sine(lattice, y, energies); /* Q_k */
+    int st = sine_transform(lattice, y, energies); /* Q_k */
     if (st) return st;
-    st = fpl_modes_sine(lattice, vel, vel); /* P_k */
+    st = sine_transform(lattice, vel, vel); /* P_k */
     if (st) return st;
     for (int k = 1; k <= n; k++) {
         double w = 2.0 * sin(k * M_PI / (2.0 * (n + 1)));
