@@ -86,6 +86,13 @@ int main(int argc, char **argv)
             count_stop(&a, &f, &b);
             printf("alloc create %s %s adaptive=%d status=%d allocs=%ld frees=%ld bytes=%ld "
                    "steps=0\n", method, fpl_model_name(model), adaptive, st, a, f, b);
+            if (st == FPL_ERR_ARG) {
+                /* the method does not apply to this model (aba864-harmonic on model 2) */
+                printf("alloc refused %s %s adaptive=%d status=%d allocs=0 frees=0 bytes=0 "
+                       "steps=0\n", method, fpl_model_name(model), adaptive, st);
+                fpl_lattice_free(&lat);
+                continue;
+            }
             if (st == 0) st = fpl_integrator_advance(h, 1.0, y); /* warm-up, not counted */
             if (st != 0) {
                 printf("alloc advance %s %s adaptive=%d status=%d allocs=-1 frees=-1 bytes=-1 "

@@ -561,7 +561,7 @@ def fmt_e(e):
     return "-" if e is None else f"{e:.1e}"
 
 
-HEADER = (f"{'method':<14}{'setting':<12}{'wall [s]':>10}{'steps':>9}{'ns/(p*step)':>12}"
+HEADER = (f"{'method':<16}{'setting':<12}{'wall [s]':>10}{'steps':>9}{'ns/(p*step)':>12}"
           f"{'ns/(p*t)':>10}{'ns/(p*f)':>9}{'err(state)':>11}{'err(orbit)':>11}{'DOP853@eq':>11}{'speed-up':>10}")
 
 
@@ -573,7 +573,7 @@ def row_line(r):
         extra = "  (time extrapolated from [0, T*frac])"
     if r.get("note"):
         extra += "  " + r["note"]
-    return (f"{r['method']:<14}{r['setting']:<12}{fmt_t(r.get('wall')):>10}"
+    return (f"{r['method']:<16}{r['setting']:<12}{fmt_t(r.get('wall')):>10}"
             f"{r.get('steps', '-')!s:>9}{r.get('ns_step', float('nan')):>12.3g}"
             f"{r.get('ns_time', float('nan')):>10.3g}{r.get('ns_feval', float('nan')):>9.3g}"
             f"{fmt_e(r.get('state')):>11}"
@@ -738,7 +738,7 @@ def main(argv=None):
             if "wall" in p:
                 log(row_line(p))
             else:
-                log(f"{p['method']:<14}{p['setting']:<12}  skipped: {p.get('skipped')}")
+                log(f"{p['method']:<16}{p['setting']:<12}  skipped: {p.get('skipped')}")
         results["sizes"][str(N)] = {"N": N, "T": T, "reference": refinfo, "target_error": target,
                                      "rows": rows, "scipy_sweep": sweep}
         log(f"  (elapsed {perf() - t_start:.0f} s)")
@@ -761,6 +761,7 @@ def main(argv=None):
                 adv = [r for r in ac["rows"] if r["phase"] == "advance"]
                 ctl = [r for r in ac["rows"] if r["phase"] == "create" and r.get("status") == 0]
                 hot = [r for r in adv if not r.get("adaptive")]
+                refused = [r for r in ac["rows"] if r["phase"] == "refused"]
                 bad = [r for r in hot if r.get("allocs") != 0 or r.get("frees") != 0
                        or r.get("status") != 0]
                 control_ok = bool(ctl) and all(r["allocs"] > 0 for r in ctl)
@@ -773,6 +774,9 @@ def main(argv=None):
                           + f"; positive control (fpl_integrator_create) counted "
                           f"{min((r['allocs'] for r in ctl), default=0)}+ allocations"
                           + ("" if control_ok else " -- SHIM NOT COUNTING"))
+                if refused:
+                    detail += "; not applicable (refused at creation): " + ", ".join(
+                        f"{r['method']}/{r['model']}" for r in refused)
                 adaptive_rows = [r for r in adv if r.get("adaptive")]
                 if adaptive_rows:
                     detail += "; adaptive (info): " + ", ".join(

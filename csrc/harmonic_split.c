@@ -127,7 +127,8 @@ FPL_HOT static void chebyshev_apply(int n, const double *restrict c, int deg,
                                     double *restrict work)
 {
     double *b0 = work, *b1 = work + n, *b2 = work + 2 * (size_t)n;
-    for (int i = 0; i < n; i++) b1[i] = b2[i] = 0.0;
+    memset(b1, 0, sizeof(double) * (size_t)n);
+    memset(b2, 0, sizeof(double) * (size_t)n);
     for (int k = deg; k >= 1; k--) {
         const double ck = c[k];
         double *restrict nb = b0;

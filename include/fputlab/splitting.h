@@ -7,8 +7,11 @@
  * tangent map of the same scheme (Skokos & Gerlach 2010): each drift/kick is differentiated
  * exactly, so the deviation vectors are the derivative of the numerical map.
  * Schemes: "leapfrog" (Stormer-Verlet, order 2), "yoshida4" (Yoshida/Forest-Ruth, order 4),
- * "aba864" (Blanes et al. 2013 ABA(8,6,4), order 4, 7 force evaluations) and "srkn14a6"
- * (Blanes & Moan 2002 SRKN_14^a, order 6, 14 force evaluations). */
+ * "aba864" (Blanes et al. 2013 ABA(8,6,4), order 4, 7 force evaluations), "srkn14a6"
+ * (Blanes & Moan 2002 SRKN_14^a, order 6, 14 force evaluations) and "aba864-harmonic" (the
+ * ABA(8,6,4) coefficients on the split harmonic chain + anharmonic force: drift = exact flow of
+ * the harmonic chain, kick = anharmonic force only; order 4, rising to 6-8 as the nonlinearity
+ * shrinks; models 1 and 3 only, FPL_ERR_ARG for model 2). */
 #ifndef FPUTLAB_SPLITTING_H
 #define FPUTLAB_SPLITTING_H
 
