@@ -10,7 +10,7 @@
 
 static int split_init(fpl_integrator *h)
 {
-    int st = fpl_splitting_prepare(h->method->data, h->lat, h->n_dev);
+    int st = fpl_splitting_prepare(h->method->data, h->lat);
     if (st) return st;
     h->data = malloc(sizeof(double) * (size_t)h->dim); /* last finite state */
     if (!h->data) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (splitting back end)");

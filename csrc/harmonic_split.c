@@ -33,10 +33,22 @@
 #define NODES 64          /* Chebyshev interpolation nodes for the coefficients */
 #define COEF_TOL 1e-17    /* truncate where |c_k| < COEF_TOL (relative to the series' scale) */
 #define MAX_ANGLE 1.0     /* largest w h per sub-rotation (keeps the degrees ~ 10-20) */
+#define MAX_DRIFTS 16
+#define MAX_DEGREE 32
 
-int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev)
+/* Owned by the lattice (lat->harm), which only frees it. */
+typedef struct fpl_harmonic_cache {
+    const fpl_splitting *scheme; /* coefficients are for this scheme and dt */
+    double dt;
+    int reps;                    /* sub-rotations per drift */
+    int deg[MAX_DRIFTS][2];      /* degrees of T and S per drift */
+    double coef[MAX_DRIFTS][2][MAX_DEGREE + 1];
+} fpl_harmonic_cache;
+
+/* The scratch does not depend on the number of deviation vectors: they are processed one at a
+ * time. */
+int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat)
 {
-    (void)n_dev; /* the scratch does not depend on it: vectors are processed one at a time */
     const int n = lat->n;
     for (int j = 0; j < n; j++) {
         if (lat->cl[j] != 1.0 || lat->s[j] != 1.0 || lat->minv[j] != 1.0)
@@ -47,9 +59,9 @@ int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_de
                              "use 'aba864' instead",
                              scheme->name, lat->ops->name, j, lat->v[j]);
     }
-    if (scheme->n_kicks + 1 > FPL_HARM_MAX_DRIFTS)
+    if (scheme->n_kicks + 1 > MAX_DRIFTS)
         return fpl_error(lat, FPL_ERR_ARG, "method '%s': %d drifts, at most %d supported",
-                         scheme->name, scheme->n_kicks + 1, FPL_HARM_MAX_DRIFTS);
+                         scheme->name, scheme->n_kicks + 1, MAX_DRIFTS);
     if (!lat->harm) {
         lat->harm = calloc(1, sizeof *lat->harm);
         lat->harmwork = malloc(sizeof(double) * 4 * (size_t)n);
@@ -87,7 +99,7 @@ static int chebyshev(int which, double h, double *coef)
     }
     int deg = NODES - 1;
     while (deg > 0 && fabsl(c[deg]) < COEF_TOL * scale) deg--;
-    if (deg > FPL_HARM_MAX_DEGREE || deg > NODES / 2) return -1; /* aliasing would show */
+    if (deg > MAX_DEGREE || deg > NODES / 2) return -1; /* aliasing would show */
     for (int k = 0; k <= deg; k++) coef[k] = (double)c[k];
     return deg;
 }

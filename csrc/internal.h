@@ -58,7 +58,7 @@ struct fpl_lattice {
     void *fft_workspace;
     double *ek;     /* N scratch: mode energies for event criteria */
     /* Harmonic-split schemes (harmonic_split.c), allocated by their prepare hook: */
-    struct fpl_harmonic_cache *harm; /* Chebyshev coefficients of the drifts for one dt */
+    struct fpl_harmonic_cache *harm; /* Chebyshev coefficients of the drifts for one dt (opaque) */
     double *harmwork;                /* 4N scratch */
     fpl_event_set events;          /* stopping criteria (events.c) */
     char event_desc[8][96];
@@ -93,7 +93,7 @@ struct fpl_splitting {
     fpl_step_fn step;
     /* Optional: check that the scheme applies to the lattice and set up what its step needs
      * (called once per run before any step; the step itself never allocates). */
-    int (*prepare)(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
+    int (*prepare)(const fpl_splitting *scheme, fpl_lattice *lat);
     const char *reference;
 };
 /* Drift-kick composition: A = x += h p/m (kinetic), B = p += h F(x) (whole force). */
@@ -102,18 +102,9 @@ void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int 
  * normal mode rotated by w_k h), B = kick by the anharmonic force only. */
 void fpl_step_harmonic(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
                        double dt);
-int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
-#define FPL_HARM_MAX_DRIFTS 16
-#define FPL_HARM_MAX_DEGREE 32
-typedef struct fpl_harmonic_cache {
-    const struct fpl_splitting *scheme; /* coefficients are for this scheme and dt */
-    double dt;
-    int reps;                           /* sub-rotations per drift */
-    int deg[FPL_HARM_MAX_DRIFTS][2];    /* degrees of T and S per drift */
-    double coef[FPL_HARM_MAX_DRIFTS][2][FPL_HARM_MAX_DEGREE + 1];
-} fpl_harmonic_cache;
-/* Run a scheme's prepare hook, if it has one, for states with n_dev deviation vectors. */
-int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev);
+int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat);
+/* Run a scheme's prepare hook, if it has one. */
+int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat);
 
 extern const fpl_splitting fpl_scheme_leapfrog;
 extern const fpl_splitting fpl_scheme_yoshida4;

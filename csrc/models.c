@@ -127,7 +127,7 @@ FPL_HOT static void kick_homogeneous(fpl_lattice *lat, double *y, int n_dev, dou
 /* Valid when cl = s = minv = 1 (the linear part is the homogeneous chain, split off exactly):
  * phi_b = alpha R_b^2 + beta R_b^3, R_b = cn[b] x[b] - cn[b-1] x[b-1], f_i = phi_{i+1} - phi_i.
  * The curvatures kappa_b = 2 alpha R_b + 3 beta R_b^2 (for the tangent) are always kept in
- * lat->kappa: two flops a bond, next to two sine transforms per kick, buy a branch-free loop. */
+ * lat->kappa: two flops a bond buy a branch-free loop (the tangent needs them whenever n_dev > 0). */
 FPL_HOT void fpl_kernel_anharmonic_force(fpl_lattice *lat, const double *x, double *f)
 {
     const int n = lat->n;

@@ -68,9 +68,9 @@ void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int 
     drift(lat, y, n_dev, scheme->drift[s] * dt);
 }
 
-int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat, int n_dev)
+int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat)
 {
-    return scheme->prepare ? scheme->prepare(scheme, lat, n_dev) : FPL_OK;
+    return scheme->prepare ? scheme->prepare(scheme, lat) : FPL_OK;
 }
 
 static int check_step(fpl_lattice *lat, double dt)
@@ -95,7 +95,7 @@ int fpl_splitting_advance(const fpl_splitting *scheme, fpl_lattice *lattice, dou
     long len = 2L * lattice->n * (n_dev + 1), bad = -1;
     if (!fpl_is_finite_array(y, len, &bad))
         return fpl_error(lattice, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
-    st = fpl_splitting_prepare(scheme, lattice, n_dev);
+    st = fpl_splitting_prepare(scheme, lattice);
     if (st) return st;
     for (long k = 0; k < nsteps; k++)
         scheme->step(scheme, lattice, y, n_dev, dt);
