@@ -52,3 +52,18 @@ def test_citation_names_the_paper():
     yaml = pytest.importorskip("yaml")
     data = yaml.safe_load(cff)
     assert data["preferred-citation"]["type"] == "article"
+
+
+def user_docs():
+    docs = [ROOT / "README.md", ROOT / "CHANGELOG.md", ROOT / "CITATION.cff"]
+    docs += sorted(p for p in (ROOT / "docs").rglob("*")
+                   if p.is_file() and p.suffix in {".md", ".rst", ".txt", ".py", ".cff"}
+                   and "_build" not in p.parts)
+    return docs
+
+
+@pytest.mark.parametrize("path", user_docs(), ids=lambda p: str(p.relative_to(ROOT)))
+def test_user_docs_stand_alone(path):
+    text = path.read_text()
+    for bad in ("../shared", "shared/spec", "/work/"):
+        assert bad not in text, f"{path.relative_to(ROOT)} points outside the repository: {bad!r}"
