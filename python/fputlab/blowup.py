@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._display import ResultMixin
 from ._arrays import as_float_array
 from ._errors import check
 from ._native import ffi, lib
@@ -51,8 +52,8 @@ def set_criteria(lattice: Lattice, criteria) -> None:
     lattice._check(lib.fpl_lattice_set_events(lattice._h, ev))
 
 
-@dataclass
-class Blowup:
+@dataclass(repr=False)
+class Blowup(ResultMixin):
     """Outcome of one run with stopping criteria."""
     blew_up: bool
     time: float                 # event time (NaN if no event)
@@ -81,7 +82,7 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
         integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol)
         index, t_ev = ffi.new("int *"), ffi.new("double *")
         if progress:   # the same run in 100 segments, a tqdm bar between them
-            from tqdm import tqdm
+            from tqdm.auto import tqdm
             with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t", disable=None,
                       bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
                 for k in range(1, 101):
@@ -136,7 +137,7 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
     with ProcessPoolExecutor(max_workers=workers) as pool:
         it = pool.map(_one, tasks)
         if progress:
-            from tqdm import tqdm
+            from tqdm.auto import tqdm
             it = tqdm(it, total=len(tasks), desc="blow-up sweep", disable=None)
         records = list(it)
     prob = np.zeros((len(taus), len(Ns)))

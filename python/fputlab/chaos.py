@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._display import ResultMixin
 from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
@@ -15,8 +16,8 @@ from .integrate import method_info
 from .lattice import Lattice, _int, _real
 
 
-@dataclass
-class ChaosResult:
+@dataclass(repr=False)
+class ChaosResult(ResultMixin):
     """lambda(t), SALI(t), GALI(t) at log-spaced times for one orbit."""
     t: np.ndarray
     mle: np.ndarray
@@ -53,7 +54,7 @@ class ChaosResult:
 
 def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res) -> int:
     """fpl_chaos_run through the resumable handle, 100 segments, a tqdm bar between them."""
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
     out = ffi.new("fpl_chaos **")
     status = lib.fpl_chaos_create(lattice._h, method.encode(), io, t0, ptr(y), w, co, out)
     if status < 0:
@@ -154,7 +155,7 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
     with ProcessPoolExecutor(max_workers=workers) as pool:
         it = pool.map(_one_realisation, tasks)
         if progress:
-            from tqdm import tqdm
+            from tqdm.auto import tqdm
             it = tqdm(it, total=len(tasks), desc="chaos", disable=None)
         for N, seed, res in it:
             results[N].append(res)

@@ -334,7 +334,7 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
     todo = [t for t in tasks if t not in records]
     failed: list[tuple[Task, str]] = []
     if todo:
-        from tqdm import tqdm
+        from tqdm.auto import tqdm
         bar = tqdm(total=len(todo), desc=f"{kind} sweep", unit="task",
                    disable=None if progress else True)
         bar.set_postfix(skipped=skipped)

@@ -161,6 +161,66 @@ class Run:
         e0 = self.lattice.energy(self.y0)
         return np.abs(self.energy - e0) / abs(e0)
 
+    def __repr__(self) -> str:
+        from ._display import fmt, time_span
+        lat = self.lattice
+        parts = [f"N={lat.N}", f"model={lat.model!r}"]
+        if lat.seed is not None:
+            parts.append(f"tau={lat.tau:g}, seed={lat.seed}")
+        parts += [time_span(self.t), f"method={self.method!r}"]
+        if math.isfinite(self.dt):
+            parts.append(f"dt={self.dt:g}")
+        # model 3 conserves no energy: an "energy error" would mean nothing there
+        if lat.model != "nonlinear" and self.t.size and self.y0 is not None:
+            parts.append(f"max rel. energy error {fmt(float(np.max(self.relative_energy_error)))}")
+        if self.states is not None:
+            parts.append("states[" + "x".join(map(str, self.states.shape)) + "]")
+        if self.event:
+            parts.append(f"stopped by {self.event['criterion']!r} at t={fmt(self.event['time'])}")
+        if not self.completed:
+            parts.append(f"incomplete: {self.message[:80]!r}")
+        return f"Run({', '.join(parts)})"
+
+    def to_xarray(self):
+        """The samples as an ``xarray.Dataset`` with units and long names.
+
+        Dimensions ``t`` (sample times), ``mode`` (k = 1..N), ``site`` (j = 1..N) and, when states
+        were stored, ``component`` (x_1..x_N, p_1..p_N) and ``vector`` (0 = orbit, then the
+        deviation vectors). The lattice, method and step are attributes.
+
+        Returns
+        -------
+        xarray.Dataset
+
+        Raises
+        ------
+        ImportError
+            If xarray is not installed (``pip install 'fputlab[xarray]'``).
+        """
+        from ._display import require_xarray, variable
+        xr = require_xarray()
+        lat = self.lattice
+        data = {"energy": variable("t", self.energy, "energy"),
+                "mode_energies": variable(("t", "mode"), self.mode_energies, "mode_energies")}
+        if lat.model != "nonlinear" and self.y0 is not None:
+            data["relative_energy_error"] = variable("t", self.relative_energy_error,
+                                                     "relative_energy_error")
+        coords = {"t": variable("t", self.t, "t"),
+                  "mode": variable("mode", np.arange(1, lat.N + 1), "mode"),
+                  "site": variable("site", np.arange(1, lat.N + 1), "site"),
+                  "v": variable("site", lat.v, "v")}
+        if self.states is not None:
+            dims = ("t", "component") if self.states.ndim == 2 else ("t", "vector", "component")
+            data["states"] = variable(dims, self.states, "states")
+        attrs = {"N": lat.N, "alpha": lat.alpha, "beta": lat.beta, "model": lat.model,
+                 "tau": lat.tau, "method": self.method, "dt": self.dt,
+                 "completed": int(self.completed), "message": self.message}
+        if lat.seed is not None:
+            attrs["seed"] = lat.seed
+        if self.event:
+            attrs.update({"event_time": self.event["time"], "event_criterion": self.event["criterion"]})
+        return xr.Dataset(data, coords=coords, attrs=attrs)
+
 
 def _sample_times(t0, t_end, sample_every, times):
     if times is not None:
@@ -238,7 +298,7 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
     message, completed, status = "", True, lib.FPL_ERR_NONFINITE
     bar = None
     if progress:
-        from tqdm import tqdm
+        from tqdm.auto import tqdm
         chunk = max(1, min(chunk, ts.size // 100))
         bar = tqdm(total=float(ts[-1] - t0), desc=f"integrate N={N}", unit="t", disable=None,
                    bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")

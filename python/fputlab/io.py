@@ -211,7 +211,7 @@ def _check_every(steps, seconds):
 def _progress(total, desc, enabled, initial=0.0):
     if not enabled:
         return None
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
     return tqdm(total=total, initial=initial, desc=desc, unit="t", disable=None,
                 bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
 

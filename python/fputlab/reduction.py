@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._display import ResultMixin
 from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
@@ -198,10 +199,11 @@ def quadratic_forms(N: int, alpha: float = 0.25) -> tuple[np.ndarray, np.ndarray
     return diag, off
 
 
-@dataclass
-class CoefficientMoments:
+@dataclass(repr=False)
+class CoefficientMoments(ResultMixin):
     """Exact moments over the disorder at each tau: raw `mean` (T, 6), `cov` (T, 6, 6), and those
     of A~, B~ (linear in a_3, b_1)."""
+    _time_field = "tau"   # the sampled axis (short repr, to_xarray)
     tau: np.ndarray
     kind: str
     N: int
@@ -252,8 +254,8 @@ def coefficient_moments(tau, N: int = 64, alpha: float = 0.25, *, kind: str = "g
 
 # ---- realisations ----------------------------------------------------------------------------
 
-@dataclass
-class RealisationQuadratics:
+@dataclass(repr=False)
+class RealisationQuadratics(ResultMixin):
     """Each realisation's coefficients as exact quadratics in tau, value = c0 + c1 tau + c2 tau^2.
 
     `raw` has shape (R, 6, 3) ([c0, c1, c2] per coefficient); A_tilde and B_tilde (R, 3)."""
@@ -316,10 +318,11 @@ def realisation_quadratics(N: int = 64, alpha: float = 0.25, R: int = 100, *, se
     return RealisationQuadratics(N, kind, seeds, z, raw)
 
 
-@dataclass
-class EnsembleStatistics:
+@dataclass(repr=False)
+class EnsembleStatistics(ResultMixin):
     """A~, B~ over R realisations at each tau: sample mean and standard deviation (ddof = 1),
     computed directly (one C projection per realisation and tau), as the paper did."""
+    _time_field = "tau"   # the sampled axis (short repr, to_xarray)
     tau: np.ndarray
     A_tilde: np.ndarray   # (R, T)
     B_tilde: np.ndarray   # (R, T)
@@ -382,8 +385,8 @@ def _smallest_positive_root(p) -> float:
     return float(real.min()) if real.size else float("nan")
 
 
-@dataclass
-class CriticalTolerance:
+@dataclass(repr=False)
+class CriticalTolerance(ResultMixin):
     """tau_c (B~ = 0) three ways: `exact` from the closed-form expectation E[B~](tau) (exactly
     quadratic, no sampling), `fit` from a quadratic fit of the R-realisation mean (the paper:
     10.0749), and `per_realisation` (each realisation's own root; NaN where B~ has none)."""
@@ -429,8 +432,8 @@ def critical_tolerance(N: int = 64, alpha: float = 0.25, R: int = 100, *, seed0:
 
 # ---- the two-mode ODE (Eq. msvar) and the Galerkin truncation --------------------------------
 
-@dataclass
-class ModalRun:
+@dataclass(repr=False)
+class ModalRun(ResultMixin):
     """Samples of a truncated system: Q, P = Q' (S, M) at t (S,), E_k = (P_k^2 + omega_k^2 Q_k^2)/2."""
     t: np.ndarray
     Q: np.ndarray
@@ -578,9 +581,10 @@ def envelope_rhs(q: np.ndarray, A_tilde: float, B_tilde: float) -> np.ndarray:
                     axis=-1)
 
 
-@dataclass
-class EnvelopeRun:
+@dataclass(repr=False)
+class EnvelopeRun(ResultMixin):
     """q_1, q_2 (complex, (K, 2)) of Eq. (msfinal2) on a uniform slow-time grid T (K,)."""
+    _time_field = "T"   # the sampled axis (short repr, to_xarray)
     T: np.ndarray
     q: np.ndarray
     A_tilde: float
