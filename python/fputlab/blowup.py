@@ -154,28 +154,17 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
 def plot_sweep(sweep: dict, path: str | None = None):
     """(a) probability of blow-up before t_max versus tau (one curve per N), with the fraction of
     realisations whose own two-mode tau_c lies below tau (the reduction's prediction); (b) the
-    distribution of blow-up times. Returns the figure; writes a PNG if `path` is given."""
+    distribution of blow-up times (`fputlab.plotting.plot_blowup_sweep`). Returns the figure;
+    writes a PNG if `path` is given."""
     import matplotlib
     if path is not None:
         matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from .plotting import plot_blowup_sweep
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.2), constrained_layout=True)
-    recs = sweep["records"]
-    for j, N in enumerate(sweep["N"]):
-        a.plot(sweep["tau"], sweep["probability"][:, j], "o-", label=f"N = {N}: blew up")
-        pred = [np.mean([r[0] > r[5] for r in recs if r[0] == tau and r[1] == N])
-                for tau in sweep["tau"]]
-        a.plot(sweep["tau"], pred, "s--", alpha=0.7, label=f"N = {N}: τ > own τ_c (two-mode)")
-    a.set_xlabel("τ (%)")
-    a.set_ylabel(f"P(blow-up before t = {sweep['t_max']:g})")
-    a.set_ylim(-0.05, 1.05)
-    a.legend(frameon=False, fontsize=8)
-    times = [r[4] for r in recs if r[3]]
-    if times:
-        b.hist(times, bins=min(30, max(5, len(times) // 3)), color="C3", alpha=0.8)
-    b.set_xlabel("blow-up time")
-    b.set_ylabel("realisations")
-    b.set_title(f"{len(times)} of {len(recs)} runs blew up")
+    plot_blowup_sweep(sweep, ax=a)
+    plot_blowup_sweep(sweep, ax=b, kind="times")
     if path is not None:
         fig.savefig(path, dpi=110)
         plt.close(fig)
