@@ -1,6 +1,8 @@
 """The paper's figures 1-3 and 11-14 (figures 4-10, the two-mode reduction, are in
-figures_reduction). Each function writes one PNG and returns its path; `full=True` uses the
-paper's settings (t = 1e8 for the chaos figures: days of CPU), the default is quick."""
+figures_reduction). Every figure function is ``figN(out_dir=".", *, full=False, **options)``:
+it writes one PNG into `out_dir` (or to `out_dir` itself if that ends in .png) and returns its
+path as a `Figure` (a pathlib.Path that also carries the figure's numbers). `full=True` uses the
+paper's settings (t = 1e8 for the chaos figures: days of CPU); the default is quick."""
 from __future__ import annotations
 
 import os
@@ -23,8 +25,22 @@ def _save(fig, out_dir, name):
     return path
 
 
-def fig1(out_dir=".", full=False):
-    """Fig. 1: FPUT recurrence of the homogeneous chain, N = 64 (envelope of x_j, E_1..E_4)."""
+def fig1(out_dir=".", *, full: bool = False):
+    """Fig. 1: FPUT recurrence of the homogeneous chain, N = 64 (envelope of x_j, E_1..E_4).
+
+    Parameters
+    ----------
+    out_dir : str or path-like, optional
+        Directory for ``fig01_recurrence.png`` (or a file name ending in .png).
+    full : bool, optional
+        The paper's settings (t = 1e5) instead of the quick ones (t = 8e4).
+
+    Returns
+    -------
+    Figure
+        Path of the PNG (``.numbers``: the energy and the best recurrence).
+    """
+    from ._figure import save, target
     from .demo import run_fig1
     from .plotting import plot_envelope, plot_mode_energies
     plt = _plt()
@@ -32,19 +48,41 @@ def fig1(out_dir=".", full=False):
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.2), constrained_layout=True)
     plot_envelope(run, max(1, int(round(200.0 / (run.t[1] - run.t[0])))), ax=a)
     a.set_title("(a) envelope of $x_j(t)$, N = 64, τ = 0")
-    plot_mode_energies(run, ax=b)
-    b.set_title(f"(b) $E_1..E_4$, E = {run.energy[0]:.5f}")
-    return _save(fig, out_dir, "fig01_recurrence.png")
+    plot_mode_energies(run, ax=b, legend="center right")
+    b.set_title(f"(b) $E_1, \\dots, E_4$, E = {run.energy[0]:.5f}")
+    late = run.t > 1e4
+    best = int(np.argmax(np.where(late, run.mode_energies[:, 0], -np.inf)))
+    return save(fig, target(out_dir, "fig01_recurrence.png"),
+                {"energy": float(run.energy[0]), "recurrence_time": float(run.t[best]),
+                 "recurrence_share": float(run.mode_energies[best, 0] / run.energy[0])})
 
 
-def fig2(out_dir=".", full=False, seed=3):
+def fig2(out_dir=".", *, full: bool = False, seed: int = 3):
     """Fig. 2: model 3 (variability in the nonlinear couplings), N = 64, tau = 5 % and 10 %:
-    recurrences degrade and the energy localises in mode 1 (a q-breather). Seed 3 is a
-    realisation that does not blow up before t = 1.5e5 (seeds 1, 2, 4 and 7 do at tau = 10 %)."""
+    recurrences degrade and the energy localises in mode 1 (a q-breather).
+
+    Parameters
+    ----------
+    out_dir : str or path-like, optional
+        Directory for ``fig02_disorder_recurrence.png`` (or a file name ending in .png).
+    full : bool, optional
+        The paper's settings (t = 1.5e5) instead of the quick ones (t = 8e4).
+    seed : int, optional
+        Disorder realisation. Seed 3 does not blow up before t = 1.5e5 (seeds 1, 2, 4 and 7
+        do at tau = 10 %).
+
+    Returns
+    -------
+    Figure
+        Path of the PNG (``.numbers``: for each tau, whether the run completed and the time
+        reached).
+    """
+    from ._figure import save, target
     from .lattice import Lattice
     from .plotting import plot_envelope, plot_mode_energies
     plt = _plt()
     fig, axes = plt.subplots(2, 2, figsize=(12, 8), constrained_layout=True)
+    numbers = {}
     for row, tau in enumerate((5.0, 10.0)):
         lat = Lattice(64, 0.25, "nonlinear", tau=tau, seed=seed)
         run = lat.integrate(1.5e5 if full else 8e4, sample_every=5.0, store_states=True,
@@ -52,30 +90,55 @@ def fig2(out_dir=".", full=False, seed=3):
         plot_envelope(run, 40, ax=axes[row, 0])
         note = "" if run.completed else f", blew up at t ≈ {run.t[-1]:.0f}"
         axes[row, 0].set_title(f"({'ac'[row]}) envelope of $x_j(t)$, τ = {tau:g}%, seed {seed}{note}")
-        plot_mode_energies(run, ax=axes[row, 1])
-        axes[row, 1].set_title(f"({'bd'[row]}) $E_1..E_4$, τ = {tau:g}%")
-    return _save(fig, out_dir, "fig02_disorder_recurrence.png")
+        # E_1 dominates the top of the panel once the energy localises: the legend goes
+        # where matplotlib finds no curve
+        plot_mode_energies(run, ax=axes[row, 1], legend="best")
+        axes[row, 1].set_title(f"({'bd'[row]}) $E_1, \\dots, E_4$, τ = {tau:g}%")
+        numbers[f"tau={tau:g}"] = {"completed": run.completed, "t_reached": float(run.t[-1])}
+    return save(fig, target(out_dir, "fig02_disorder_recurrence.png"), numbers)
 
 
-def fig3(out_dir=".", full=False, seed=1):
+def _criterion_mathtext(text: str) -> str:
+    """A stopping criterion as the C library describes it ("max |x_{j+1} - x_j| > 4") in
+    mathtext, so a title shows formulas rather than markup."""
+    text = text.replace("max_k", r"\max_k").replace("max ", r"\max ").replace("energy", r"\mathrm{energy}")
+    return "$" + text + "$"
+
+
+def fig3(out_dir=".", *, full: bool = False, seed: int = 1):
     """Fig. 3: model 3, N = 64, tau = 20 % > tau_c: finite-time blow-up (abrupt growth of
-    E_1..E_4); the run stops when a bond passes the cubic barrier (stretch 1/alpha)."""
+    E_1..E_4); the run stops when a bond passes the cubic barrier (stretch 1/alpha).
+
+    Parameters
+    ----------
+    out_dir : str or path-like, optional
+        Directory for ``fig03_blowup.png`` (or a file name ending in .png).
+    full : bool, optional
+        Accepted for the common signature; the quick and full settings are the same here.
+    seed : int, optional
+        Disorder realisation (seed 1 blows up at t = 2545).
+
+    Returns
+    -------
+    Figure
+        Path of the PNG (``.numbers``: the blow-up time and criterion, if any).
+    """
+    from ._figure import save, target
     from .lattice import Lattice
+    from .plotting import plot_mode_energies
     plt = _plt()
     lat = Lattice(64, 0.25, "nonlinear", tau=20.0, seed=seed)
     run = lat.integrate(1e4, sample_every=1.0, stop_on=[("stretch", 4.0)])
     fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
-    for k in range(1, 5):
-        ax.semilogy(run.t, run.mode_energies[:, k - 1], lw=0.9, label=f"$E_{k}$")
+    plot_mode_energies(run, ax=ax, log=True, legend="lower right")
+    numbers = {"blowup_time": None, "criterion": None}
     if run.event:
         ax.axvline(run.event["time"], color="k", ls="--", lw=0.8)
         ax.set_title(f"τ = 20%, seed {seed}: blow-up at t = {run.event['time']:.1f} "
-                     f"({run.event['criterion']})")
+                     f"({_criterion_mathtext(run.event['criterion'])})")
+        numbers = {"blowup_time": run.event["time"], "criterion": run.event["criterion"]}
     ax.set_ylim(1e-8, None)
-    ax.set_xlabel("$t$")
-    ax.set_ylabel("$E_k$")
-    ax.legend(frameon=False)
-    return _save(fig, out_dir, "fig03_blowup.png")
+    return save(fig, target(out_dir, "fig03_blowup.png"), numbers)
 
 
 def _chaos_panels(results, title, out_dir, name, t_end):
@@ -145,24 +208,17 @@ def fig14(out_dir=".", full=False, realisations=30, t_end=2e4, method="yoshida4"
 
 
 def all_figures(out_dir="figures", full=False, only=None):
-    """Regenerate every figure (1-14); `only` is an optional set of figure numbers."""
+    """Regenerate every figure (1-14); `only` is an optional set of figure numbers. Every
+    figure function is called as ``figN(out_dir, full=full)``."""
     paths = []
     want = lambda k: only is None or k in only
     for k, fn in ((1, fig1), (2, fig2), (3, fig3), (11, fig11)):
         if want(k):
-            paths.append(fn(out_dir, full))
+            paths.append(fn(out_dir, full=full))
     if want(12) or want(13) or want(14):
-        paths += fig12_13(out_dir, full)
-    import inspect
-
-    from . import figures_reduction
+        paths += fig12_13(out_dir, full=full)
+    from .figures_reduction import FIGURES
     for k in range(4, 11):
-        fn = getattr(figures_reduction, f"fig{k}")
         if want(k):
-            # these take the PNG path (default file name) and quick=...
-            name = inspect.signature(fn).parameters["out"].default
-            path = os.path.join(out_dir, name)
-            os.makedirs(out_dir, exist_ok=True)
-            fn(path, quick=not full)
-            paths.append(path)
+            paths.append(FIGURES[k](out_dir, full=full))
     return paths
