@@ -26,7 +26,7 @@ CRITERIA = {
 
 def default_criteria(lattice: Lattice) -> list[tuple]:
     """The cubic potential's barrier: a bond stretched beyond 1/alpha has escaped (V'(s) = 0 at
-    s = -1/alpha); without alpha, |x_j| > 100."""
+    s = -1/alpha); without alpha, ``|x_j| > 100``."""
     if lattice.alpha > 0:
         return [("stretch", 1.0 / lattice.alpha)]
     return [("displacement", 100.0)]
@@ -68,8 +68,41 @@ class Blowup(ResultMixin):
 def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt: float | None = None,
                 rtol: float = 1e-10, atol: float = 1e-12, y0=None, criteria=None,
                 progress: bool = False) -> Blowup:
-    """Integrate until a criterion fires (default: a bond stretched beyond the barrier 1/alpha) or
-    t_max. A NaN/Inf state without an event is an integration failure, reported as such."""
+    """Integrate until a stopping criterion fires (a blow-up) or `t_max`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice (typically model 3 with tau above tau_c).
+    t_max : float
+        Longest time to integrate (finite, > 0).
+    method : str, optional
+        Integrator name; the splitting schemes locate the crossing inside the step, ARKODE and
+        CVODE by root-finding ("gsl-rk8pd" refuses criteria).
+    dt : float, optional
+        Step of the fixed-step methods (default 0.01).
+    rtol, atol : float, optional
+        Tolerances of the adaptive methods.
+    y0 : array_like, optional
+        Initial state, length 2N (default: the paper's mode-1 state).
+    criteria : list of tuple, optional
+        Stopping criteria such as ``[("stretch", 4.0)]``, ``("energy", E)``,
+        ``("displacement", X)`` or ``("mode_energy", E)`` (default: a bond stretched beyond the
+        cubic barrier 1/alpha, `default_criteria`).
+    progress : bool, optional
+        A progress bar with ETA (tqdm.auto).
+
+    Returns
+    -------
+    Blowup
+        Whether it blew up, when, by which criterion, and the state there.
+
+    Raises
+    ------
+    IntegrationError
+        The state became NaN/Inf without a criterion firing: an integration failure, not a
+        located blow-up.
+    """
     t_max = _real(t_max, "t_max")
     if not (math.isfinite(t_max) and t_max > 0):
         raise ValueError(f"t_max must be finite and > 0 (got {t_max:g})")
@@ -125,12 +158,43 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
                  model: str = "nonlinear", alpha: float = 0.25, method: str = "yoshida4",
                  first_seed: int = 1, workers: int | None = None, progress: bool = False,
                  **kwargs) -> dict:
-    """Probability of blow-up before t_max versus tau (and N) over `realisations` disorder draws
-    (seeds first_seed..), run in parallel processes. Returns a dict with arrays `tau`, `N`,
-    `probability` (len(taus) x len(Ns)), the per-realisation `records`
-    (tau, N, seed, blew_up, time, tau_c) where tau_c is the realisation's own two-mode threshold
-    (B~ < 0 above it), and `prediction_accuracy`: the share of runs where "tau > tau_c" agrees
-    with "blew up before t_max"."""
+    """Probability of blow-up before `t_max` versus tau (and N) over disorder realisations, run
+    in parallel processes.
+
+    Parameters
+    ----------
+    taus : sequence of float
+        Tolerances (percent).
+    Ns : sequence of int, optional
+        Lattice sizes.
+    realisations : int, optional
+        Disorder draws per (tau, N), seeds ``first_seed, first_seed + 1, ...``.
+    t_max : float, optional
+        Longest time per run.
+    model : str, optional
+        Lattice model (default "nonlinear", the paper's).
+    alpha : float, optional
+        Cubic coupling.
+    method : str, optional
+        Integrator name.
+    first_seed : int, optional
+        Seed of the first realisation.
+    workers : int, optional
+        Worker processes (default: all cores).
+    progress : bool, optional
+        A progress bar over the runs (tqdm.auto).
+    **kwargs
+        Passed to `blowup_time` (dt, rtol, atol, criteria).
+
+    Returns
+    -------
+    dict
+        ``tau``, ``N``, ``probability`` (len(taus) x len(Ns)), the per-realisation ``records``
+        (tau, N, seed, blew_up, time, tau_c) where tau_c is the realisation's own two-mode
+        threshold (B~ < 0 above it), and ``prediction_accuracy``: the share of runs where
+        "tau > tau_c" agrees with "blew up before t_max". Plot with `plot_sweep` or
+        `fputlab.plotting.plot_blowup_sweep`.
+    """
     taus, Ns = [float(t) for t in taus], [int(n) for n in Ns]
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]

@@ -78,12 +78,53 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
              renorm_interval: float = 1.0, n_samples: int = 200, t_first_sample: float = 0.0,
              sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
              t0: float = 0.0, progress: bool = False) -> ChaosResult:
-    """Follow the orbit y0 (default: the paper's mode-1 state) with n_dev deviation vectors (w0,
-    shape (n_dev, 2N), default Gaussian random from `seed`) and return lambda, SALI, GALI_n_dev.
+    """Chaos indicators of one orbit: finite-time mLE λ(t), SALI(t) and GALI_k(t) (paper Sec. 5).
 
-    Fixed-step methods (tangent map) use dt (default 0.01); adaptive methods (variational
-    equations, e.g. method="dop853", the paper's choice for model 3) use rtol/atol.
-    progress: a progress bar with ETA on a terminal (the same computation, in 100 segments)."""
+    Fixed-step methods carry the deviation vectors with the tangent map of the scheme;
+    adaptive methods (e.g. "dop853", the paper's choice for model 3) integrate the variational
+    equations.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice.
+    t_end : float
+        Final time.
+    method : str, optional
+        Integrator name (`fputlab.methods()`); default "yoshida4" (the paper's for model 1).
+    dt : float, optional
+        Step of the fixed-step methods (default 0.01).
+    rtol, atol : float, optional
+        Tolerances of the adaptive methods.
+    y0 : array_like, optional
+        Initial orbit state, length 2N (default: the paper's mode-1 state, Eq. initxi).
+    w0 : array_like, optional
+        Initial deviation vectors, shape (n_dev, 2N) (default: Gaussian random from `seed`).
+    n_dev : int, optional
+        Number of deviation vectors (2 for SALI; GALI_k uses all k).
+    renorm_interval : float, optional
+        Time between renormalisations of the deviation vectors.
+    n_samples : int, optional
+        Number of log-spaced sample times.
+    t_first_sample : float, optional
+        First sample time (0: one renormalisation interval).
+    sali_threshold : float, optional
+        SALI below this marks the orbit chaotic.
+    stop_when_chaotic : bool, optional
+        End the run once SALI falls below the threshold.
+    seed : int, optional
+        Seed of the random initial deviation vectors.
+    t0 : float, optional
+        Initial time.
+    progress : bool, optional
+        A progress bar with ETA (tqdm.auto; the same computation, in 100 segments).
+
+    Returns
+    -------
+    ChaosResult
+        ``t``, ``mle``, ``sali``, ``gali`` at the sample times, and whether and when the orbit
+        was found chaotic. A blow-up ends the run with ``completed=False``.
+    """
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     adaptive = method_info(method)["adaptive"]
@@ -165,7 +206,7 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
 
 
 def sali(w1, w2) -> float:
-    """SALI of two vectors: min(|w1^ - w2^|, |w1^ + w2^|)."""
+    """SALI of two vectors: ``min(|w1^ - w2^|, |w1^ + w2^|)``."""
     a = as_float_array(w1, "w1")
     b = as_float_array(w2, "w2", a.shape)
     out = ffi.new("double *")

@@ -97,7 +97,7 @@ def plot_mode_energies(run, modes=(1, 2, 3, 4), ax=None, relative: bool = False,
 
 
 def envelope(run, window: int) -> tuple[np.ndarray, np.ndarray]:
-    """Running maximum of |x_j| over blocks of samples.
+    """Running maximum of ``|x_j|`` over blocks of samples.
 
     Parameters
     ----------
@@ -111,7 +111,7 @@ def envelope(run, window: int) -> tuple[np.ndarray, np.ndarray]:
     t : numpy.ndarray
         Mid-time of each block, shape (B,).
     env : numpy.ndarray
-        max |x_j| over each block, shape (B, N).
+        max ``|x_j|`` over each block, shape (B, N).
     """
     if run.states is None:
         raise ValueError("run has no states: integrate with store_states=True")
@@ -160,7 +160,7 @@ def plot_mle(results, ax=None, *, labels=None, colors=None, guide: bool = True,
     """Finite-time maximum Lyapunov exponent lambda(t) on log-log axes (paper Figs. 11-13).
 
     Regular orbits follow lambda ~ 1/t (drawn as a dashed guide); chaotic ones level off at a
-    positive value. |lambda| is drawn, since a finite-time estimate can dip below zero.
+    positive value. ``|lambda|`` is drawn, since a finite-time estimate can dip below zero.
 
     Parameters
     ----------

@@ -52,7 +52,7 @@ def detuning(N: int) -> float:
 
 
 def r1_squared(N: int) -> float:
-    """r_1^2 = |q_1(0)|^2 = (Q_1(0)/2)^2 = (N+1)/8 for the paper's initial state (Eq. initxi)."""
+    """``r_1^2 = |q_1(0)|^2 = (Q_1(0)/2)^2 = (N+1)/8`` for the paper's initial state (Eq. initxi)."""
     return (_int(N, "N") + 1) / 8.0
 
 
@@ -622,10 +622,10 @@ class EnvelopeRun(ResultMixin):
 def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: int = 64,
                  dT: float = 1e-3, P_max: float | None = None) -> EnvelopeRun:
     """Integrate Eq. (msfinal2) from T = 0 to T_end (either sign; physical time t = T/eps, and
-    eps < 0, so forward physical time is negative T) with fixed-step RK4 of step |dT|.
+    eps < 0, so forward physical time is negative T) with fixed-step RK4 of step ``|dT|``.
 
     q0 defaults to (Q_1(0)/2, 0) = (sqrt((N+1)/8), 0) (Eqs. ic-q1, ic-q2). With P_max the run stops
-    (completed=False) once |q_1|^2 + |q_2|^2 exceeds it (the unbounded case B~ < 0)."""
+    (completed=False) once ``|q_1|^2 + |q_2|^2`` exceeds it (the unbounded case B~ < 0)."""
     A, B = _finite_real(A_tilde, "A_tilde"), _finite_real(B_tilde, "B_tilde")
     T_end, dT = _finite_real(T_end, "T_end"), _finite_real(dT, "dT")
     if dT <= 0:
@@ -662,7 +662,7 @@ def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: in
 
 
 def envelope_error(two_mode: ModalRun, envelope: EnvelopeRun, eps: float) -> np.ndarray:
-    """max over the samples of |Q_j - Q_j^env| for j = 1, 2 (Q^env from `reconstruct`)."""
+    """max over the samples of ``|Q_j - Q_j^env|`` for j = 1, 2 (Q^env from `reconstruct`)."""
     Qe = envelope.reconstruct(two_mode.t, two_mode.omega, eps)
     return np.abs(two_mode.Q - Qe).max(axis=0)
 
