@@ -42,3 +42,28 @@ def test_fig3_title_shows_formulas_not_markup(tmp_path):
     fig = figures.fig3(tmp_path)
     assert fig.numbers["blowup_time"] == pytest.approx(2545, abs=1)
     assert figures._criterion_mathtext("max |x_{j+1} - x_j| > 4") == r"$\max |x_{j+1} - x_j| > 4$"
+
+
+def test_mode_energy_legend_keeps_off_a_dominant_E1():
+    # Fig. 2(d): E_1 runs along the top of the panel and the others near zero; the legend
+    # must not sit on E_1 (it used to be pinned to the upper right)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from types import SimpleNamespace
+
+    from fputlab.plotting import plot_mode_energies
+    t = np.linspace(0, 8e4, 801)
+    E = np.zeros((t.size, 64))
+    E[:, 0] = 0.075 + 0.04 * np.sin(2 * np.pi * t / 4e4 - np.pi / 2) * -1
+    E[:, 1:4] = 1e-4 * (1 + np.sin(t / 1e4))[:, None]
+    run = SimpleNamespace(t=t, mode_energies=E, energy=E.sum(axis=1))
+    fig, ax = plt.subplots(figsize=(6, 4))
+    plot_mode_energies(run, ax=ax)
+    fig.canvas.draw()
+    box = ax.get_legend().get_window_extent()
+    e1 = ax.transData.transform(np.column_stack([t, E[:, 0]]))
+    inside = (box.x0 <= e1[:, 0]) & (e1[:, 0] <= box.x1) & (box.y0 <= e1[:, 1]) & (e1[:, 1] <= box.y1)
+    assert not inside.any()
+    plt.close(fig)
