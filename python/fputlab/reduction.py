@@ -167,10 +167,28 @@ def two_mode_coefficients(N=64, alpha: float = 0.25, v=None, *,
                           model="nonlinear") -> TwoModeCoefficients:
     """Two-mode coefficients of a chain, by projection (closed sums over the bonds, in C).
 
-    `N` may also be a `Lattice`, whose N, alpha, model and v are used. v = None means v_j = 1.
     Models 2 and 3 share the quadratic part; beta does not enter (Eq. msvar has no cubic terms).
     Eq. (msvar) assumes a diagonal linear part, which holds for models 1 and 3 only: for model 2
-    these are the quadratic coefficients of the projected acceleration (see reduction.h)."""
+    these are the quadratic coefficients of the projected acceleration (see reduction.h).
+
+    Parameters
+    ----------
+    N : int or Lattice, optional
+        Lattice size, or a `Lattice` whose N, alpha, model and v are used.
+    alpha : float, optional
+        Cubic coupling.
+    v : array_like, optional
+        Variability v_j, length N (None: v_j = 1).
+    model : str or int, optional
+        Lattice model (default "nonlinear").
+
+    Returns
+    -------
+    TwoModeCoefficients
+        Raw coefficients ``a``, ``b`` (alpha included) and the paper-normalised ``A``, ``B``,
+        ``A_tilde``, ``B_tilde`` (see docs/conventions.md). At N = 64, alpha = 0.25, v = 1:
+        A~ = 3.62805, B~ = 0.90728.
+    """
     if isinstance(N, Lattice):
         lat = N
         N, alpha, code, v = lat.N, lat.alpha, lat.model_code, lat.v
@@ -414,8 +432,30 @@ class CriticalTolerance(ResultMixin):
 
 def critical_tolerance(N: int = 64, alpha: float = 0.25, R: int = 100, *, seed0: int = 1,
                        kind: str = "gaussian", tau=None) -> CriticalTolerance:
-    """tau_c three ways (see CriticalTolerance). `tau` is the grid of the fit (default 0..20 %
-    in steps of 0.5)."""
+    """The critical tolerance tau_c (where B~ changes sign) three ways.
+
+    Parameters
+    ----------
+    N : int, optional
+        Lattice size.
+    alpha : float, optional
+        Cubic coupling.
+    R : int, optional
+        Number of realisations for the fit and the per-realisation roots.
+    seed0 : int, optional
+        Seed of the first realisation (seeds seed0 .. seed0 + R - 1).
+    kind : {"gaussian", "truncated", "uniform"}, optional
+        Distribution of the disorder draws.
+    tau : array_like, optional
+        Grid of the quadratic fit, percent (default 0..20 in steps of 0.5).
+
+    Returns
+    -------
+    CriticalTolerance
+        ``exact`` (root of the exact Gaussian expectation of B~, no sampling), ``fit`` (root of a
+        quadratic fit of the R-realisation mean, the paper's method; paper: 10.0749 %) and
+        ``per_realisation`` (each realisation's own root).
+    """
     taus = np.linspace(0.0, 20.0, 41) if tau is None else as_float_array(tau, "tau")
     ens = ensemble_statistics(taus, N, alpha, R, seed0=seed0, kind=kind)
     fit_A, sse_A = quadratic_fit(taus, ens.A_mean)
@@ -493,11 +533,38 @@ def two_mode_run(coefficients: TwoModeCoefficients, t_end: float, *, dt: float =
                  sample_every: float | None = None, times=None, Q0=None, P0=None, omega=None,
                  method: str = "yoshida4", t0: float = 0.0,
                  on_failure: str = "raise") -> ModalRun:
-    """Integrate Eq. (msvar) with the raw coefficients (in C, fixed step `dt` of `method`).
+    """Integrate the two-mode system, Eq. (msvar), with the raw coefficients (in C).
 
-    Default state: Q_1(0) = sqrt((N+1)/2), Q_2 = P = 0 (Eq. initxi). `omega` overrides
-    (omega_1, omega_2), e.g. to vary the detuning. A blow-up raises IntegrationError (its `.result`
-    holds the finite samples) or, with on_failure="return", returns them with completed=False."""
+    Parameters
+    ----------
+    coefficients : TwoModeCoefficients
+        From `two_mode_coefficients`.
+    t_end : float
+        Final time.
+    dt : float, optional
+        Fixed step of `method`.
+    sample_every : float, optional
+        Sampling interval (exclusive with `times`).
+    times : array_like, optional
+        Explicit increasing sample times.
+    Q0, P0 : array_like, optional
+        Initial (Q_1, Q_2) and (P_1, P_2); default Q_1(0) = sqrt((N+1)/2), Q_2 = P = 0
+        (Eq. initxi).
+    omega : array_like, optional
+        (omega_1, omega_2) instead of the chain's, e.g. to vary the detuning.
+    method : str, optional
+        Splitting scheme.
+    t0 : float, optional
+        Initial time.
+    on_failure : {"raise", "return"}, optional
+        A blow-up raises `IntegrationError` (its ``.result`` holds the finite samples) or
+        returns them with ``completed=False``.
+
+    Returns
+    -------
+    ModalRun
+        ``t``, ``Q``, ``P`` (and ``mode_energies``).
+    """
     if not isinstance(coefficients, TwoModeCoefficients):
         raise TypeError("coefficients must be a TwoModeCoefficients")
     t0, dt, ts = _run_args(t_end, dt, t0, sample_every, times, on_failure)
@@ -621,11 +688,31 @@ class EnvelopeRun(ResultMixin):
 
 def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: int = 64,
                  dT: float = 1e-3, P_max: float | None = None) -> EnvelopeRun:
-    """Integrate Eq. (msfinal2) from T = 0 to T_end (either sign; physical time t = T/eps, and
-    eps < 0, so forward physical time is negative T) with fixed-step RK4 of step ``|dT|``.
+    """Integrate the envelope equations, Eq. (msfinal2), in the slow time T = eps t with
+    fixed-step RK4.
 
-    q0 defaults to (Q_1(0)/2, 0) = (sqrt((N+1)/8), 0) (Eqs. ic-q1, ic-q2). With P_max the run stops
-    (completed=False) once ``|q_1|^2 + |q_2|^2`` exceeds it (the unbounded case B~ < 0)."""
+    Parameters
+    ----------
+    A_tilde, B_tilde : float
+        The paper-normalised coefficients.
+    T_end : float
+        Final slow time, either sign (eps < 0, so forward physical time is negative T).
+    q0 : array_like, optional
+        Initial complex (q_1, q_2); default (Q_1(0)/2, 0) = (sqrt((N+1)/8), 0)
+        (Eqs. ic-q1, ic-q2).
+    N : int, optional
+        Lattice size (for the default q0).
+    dT : float, optional
+        Step size ``|dT|`` (> 0).
+    P_max : float, optional
+        Stop (``completed=False``) once ``|q_1|^2 + |q_2|^2`` exceeds it (the unbounded case
+        B~ < 0).
+
+    Returns
+    -------
+    EnvelopeRun
+        ``T``, ``q`` (complex, shape (S, 2)); ``at(T)`` interpolates.
+    """
     A, B = _finite_real(A_tilde, "A_tilde"), _finite_real(B_tilde, "B_tilde")
     T_end, dT = _finite_real(T_end, "T_end"), _finite_real(dT, "dT")
     if dT <= 0:

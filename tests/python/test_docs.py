@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import fputlab
-from fputlab import blowup, chaos, figures, figures_reduction, plotting
+from fputlab import blowup, chaos, figures, figures_reduction, plotting, reduction
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -21,7 +21,8 @@ MAIN = [fputlab.Lattice, fputlab.Lattice.integrate, fputlab.integrate, fputlab.I
         plotting.plot_mode_energies, plotting.envelope, plotting.plot_envelope, plotting.plot_mle,
         plotting.plot_sali, plotting.plot_two_mode, plotting.plot_blowup_sweep,
         plotting.plot_bifurcation, plotting.plot_bifurcation_curves,
-        figures.fig1, figures.fig2, figures.fig3]
+        figures.fig1, figures.fig2, figures.fig3, reduction.two_mode_coefficients,
+        reduction.critical_tolerance, reduction.two_mode_run, reduction.envelope_run]
 
 
 def documented_parameters(doc: str) -> list[str]:
