@@ -55,10 +55,16 @@ def test_citation_names_the_paper():
 
 
 def user_docs():
+    """README, CHANGELOG, CITATION, everything under docs/, and every other Markdown file of
+    the repository (benchmarks/README.md, ...); build trees and the venv left out."""
+    skip = {".venv", ".git", "_build", "_generated", "node_modules"}
     docs = [ROOT / "README.md", ROOT / "CHANGELOG.md", ROOT / "CITATION.cff"]
     docs += sorted(p for p in (ROOT / "docs").rglob("*")
                    if p.is_file() and p.suffix in {".md", ".rst", ".txt", ".py", ".cff"}
-                   and "_build" not in p.parts)
+                   and not skip & set(p.parts))
+    docs += sorted(p for p in ROOT.rglob("*.md")
+                   if p not in docs and not skip & set(p.relative_to(ROOT).parts)
+                   and not p.relative_to(ROOT).parts[0].startswith("build"))
     return docs
 
 
