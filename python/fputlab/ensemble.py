@@ -39,7 +39,8 @@ COLUMNS = {
     "blowup": {"blew_up": bool, "time": float, "criterion": str, "t_reached": float,
                "tau_c": float},
     "chaos": {"mle": float, "sali": float, "classification": str, "t_final": float,
-              "chaotic": bool, "t_chaotic": float, "steps": np.int64, "completed": bool},
+              "chaotic": bool, "t_chaotic": float, "steps": np.int64, "completed": bool,
+              "blew_up": bool, "t_blowup": float},
 }
 #: per-task series of the chaos kind (stored as 2-D datasets, NaN-padded, in the merged file)
 SERIES = {"chaos": ("t", "mle_t", "sali_t")}
@@ -126,6 +127,7 @@ def _compute(task: Task, spec: SweepSpec) -> dict:
                    classification=res.classify(), t_final=float(res.t_final),
                    chaotic=bool(res.chaotic), t_chaotic=float(res.t_chaotic),
                    steps=int(res.steps), completed=bool(res.completed),
+                   blew_up=bool(res.blew_up), t_blowup=float(res.t_blowup),
                    t=np.asarray(res.t, float), mle_t=np.asarray(res.mle, float),
                    sali_t=np.asarray(res.sali, float))
     else:
