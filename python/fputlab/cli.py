@@ -190,7 +190,9 @@ def cmd_chaos(a):
 def cmd_figures(a):
     from .figures import all_figures
     only = set(a.only) if a.only else None
-    for p in all_figures(a.out, full=a.full, only=only):
+    study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
+             "scheduler": a.scheduler}
+    for p in all_figures(a.out, full=a.full, only=only, **study):
         print(p)
     return 0
 
@@ -466,6 +468,14 @@ def build_parser():
     s.add_argument("--out", default="figures", help="output directory (default figures/)")
     s.add_argument("--full", action="store_true", help="the paper's settings (t = 1e8: very long)")
     s.add_argument("--only", type=int, nargs="+", help="figure numbers to make")
+    s.add_argument("--work-dir", help="chaos study of Figs. 12-14: one state file per orbit, "
+                   "resumed by the next call (default OUT/chaos_study)")
+    s.add_argument("--t-end", type=float, help="how far the chaos study goes in this call "
+                   "(default 1e5, with --full 1e8); rerun with a larger value to continue")
+    s.add_argument("--workers", type=int, help="local processes for the chaos study "
+                   "(default: all cores)")
+    s.add_argument("--scheduler", help="Dask scheduler address tcp://host:port for the chaos "
+                   "study (the work directory must be shared)")
     s.set_defaults(func=cmd_figures)
 
     s = sub.add_parser("methods", help="list the integrators")

@@ -168,55 +168,130 @@ def fig11(out_dir=".", full=False):
     return _chaos_panels(res, f"homogeneous, t = {t_end:g}", out_dir, "fig11_chaos_homogeneous.png", t_end)
 
 
-def _ensemble(Ns, full, realisations, t_end, method):
-    from .chaos import chaotic_fraction
-    t_end = 1e8 if full else t_end
-    return chaotic_fraction(Ns=Ns, realisations=realisations, tau=10.0, t_end=t_end, method=method,
-                            n_samples=100, progress=True), t_end
+#: how far the chaos study goes for the quick figures 12-14 (--full: the paper's t = 1e8)
+QUICK_STUDY_T = 1e5
 
 
-def fig12_13(out_dir=".", full=False, realisations=30, t_end=2e4, method="yoshida4"):
-    """Figs. 12-13: model 3, tau = 10 %, 30 realisations for N = 4, 8, 16 (Fig. 12) and 32, 64
-    (Fig. 13): lambda(t) and SALI(t). The paper used DOP853 to t = 1e8 (method="dop853", full=True)."""
-    out, t_end = _ensemble((4, 8, 16, 32, 64), full, realisations, t_end, method)
-    paths = []
-    for N in out["N"]:
-        res = [(f"seed {r.params['seed']}", r) for r in out["results"][N]]
-        name = f"fig{12 if N <= 16 else 13}_chaos_N{N}.png"
-        paths.append(_chaos_panels(res, f"model 3, τ = 10%, N = {N}, t = {t_end:g}", out_dir, name, t_end))
-    paths.append(_fig14_from(out, out_dir, t_end))
-    return paths
+def chaos_study(work_dir=None, *, full=False, t_until=None, workers=None, scheduler=None,
+                progress=True, out_dir="figures", **params):
+    """The chaos study behind Figs. 12-14 (fputlab.study.ChaosStudy: model 3, tau = 10 %,
+    30 realisations, N = 4..64, t_end = 1e8), continued in `work_dir` (default
+    out_dir/chaos_study) up to t_until (default 1e8 with full, else 1e5). Orbits that already
+    reached t_until are not recomputed, so a second call redraws in seconds."""
+    from .study import ChaosStudy
+    study = ChaosStudy(work_dir if work_dir is not None else os.path.join(out_dir, "chaos_study"),
+                       **params)
+    t_until = (study.spec.t_end if full else min(QUICK_STUDY_T, study.spec.t_end)) \
+        if t_until is None else float(t_until)
+    if study.reached() < min(t_until, study.spec.t_end):
+        study.run(t_until, workers=workers, scheduler=scheduler, progress=progress)
+    return study
 
 
-def _fig14_from(out, out_dir, t_end):
+def _reached_label(study):
+    t = study.reached()
+    return f"t = {t:.0e}".replace("e+0", "e").replace("e+", "e")
+
+
+def _study_panels(study, Ns, name, letters, out_dir):
+    """Rows of (lambda(t) with the 1/t guide, SALI(t)) for each N: one colour per realisation."""
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
-    ax.plot(out["N"], out["percent"], "ko--")
+    res = study.results()
+    fig, axes = plt.subplots(len(Ns), 2, figsize=(11, 3.3 * len(Ns)), constrained_layout=True,
+                             squeeze=False)
+    t_top = study.reached()
+    cmap = plt.get_cmap("turbo")
+    R = study.spec.realisations
+    for row, N in enumerate(Ns):
+        a, b = axes[row]
+        for i, r in enumerate(res[N]):
+            if r is None or not r.t.size:
+                continue
+            c = cmap(i / max(R - 1, 1))
+            k = r.t <= t_top * (1 + 1e-12)      # orbits ahead of the others: up to the same t
+            a.loglog(r.t[k], np.abs(r.mle[k]), lw=0.7, color=c)
+            b.loglog(r.t[k], np.maximum(r.sali[k], 1e-17), lw=0.7, color=c)
+        tt = np.logspace(0, np.log10(max(t_top, 10.0)), 50)
+        a.loglog(tt, 1.0 / tt, "k--", lw=1.2, label="1/t")
+        b.axhline(study.spec.sali_threshold, color="gray", lw=0.8, ls=":", label="threshold")
+        counts = study.classes(t_top)[N]
+        summary = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
+        a.set_title(f"({letters[2 * row]}) N = {N}: mLE   [at t = {t_top:.0e}: {summary}]",
+                    fontsize=10, loc="left")
+        b.set_title(f"({letters[2 * row + 1]}) N = {N}: SALI", fontsize=10, loc="left")
+        a.set_ylabel("mLE λ(t)")
+        b.set_ylabel("SALI(t)")
+        b.set_ylim(1e-17, 3)
+        for ax in (a, b):
+            ax.set_xlabel("t")
+        a.legend(frameon=False, fontsize=8, loc="lower left")
+    s = study.spec
+    fig.suptitle(f"model 3, τ = {s.tau:g} %, {R} realisations, {s.method} dt = {s.dt:g}, "
+                 f"{_reached_label(study)}")
+    return _save(fig, out_dir, name)
+
+
+def fig12(out_dir=".", full=False, *, study=None, **kwargs):
+    """Fig. 12: model 3, tau = 10 %, 30 realisations; lambda(t) with the 1/t guide and SALI(t)
+    for N = 4 (a, b), 8 (c, d), 16 (e, f). kwargs go to `chaos_study`."""
+    study = study or chaos_study(full=full, out_dir=out_dir, **kwargs)
+    return _study_panels(study, [N for N in (4, 8, 16) if N in study.spec.Ns],
+                         "fig12_chaos_N4_8_16.png", "abcdef", out_dir)
+
+
+def fig13(out_dir=".", full=False, *, study=None, **kwargs):
+    """Fig. 13: as Fig. 12 for N = 32 (a, b) and 64 (c, d)."""
+    study = study or chaos_study(full=full, out_dir=out_dir, **kwargs)
+    return _study_panels(study, [N for N in (32, 64) if N in study.spec.Ns],
+                         "fig13_chaos_N32_64.png", "abcd", out_dir)
+
+
+def fig14(out_dir=".", full=False, *, study=None, **kwargs):
+    """Fig. 14: percentage of chaotic orbits (SALI < 1e-8 on a finite orbit) among the
+    realisations versus N, with the percentage that blew up (never counted as chaotic)."""
+    study = study or chaos_study(full=full, out_dir=out_dir, **kwargs)
+    plt = _plt()
+    t = study.reached()
+    counts = study.classes(t)
+    Ns = sorted(counts)
+    R = study.spec.realisations
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
+    pct = lambda k: [100.0 * counts[N][k] / R for N in Ns]
+    ax.plot(Ns, pct("chaotic"), "ko-", label="chaotic")
+    ax.plot(Ns, pct("blow-up"), "s--", color="tab:red", label="blew up (not chaos)")
+    if any(counts[N]["not reached"] for N in Ns):
+        ax.plot(Ns, pct("not reached"), "x:", color="gray", label="not yet reached t")
     ax.set_xscale("log", base=2)
-    ax.set_xlabel("$N$")
-    ax.set_ylabel("chaotic orbits (%)")
-    R = len(next(iter(out["results"].values())))
-    blown = ", ".join(f"N={N}: {b}" for N, b in zip(out["N"], out["blowups"]) if b)
-    ax.set_title(f"τ = 10%, {R} realisations, t = {t_end:g}" + (f"\nblew up first: {blown}" if blown else ""))
+    ax.set_xticks(Ns, [str(N) for N in Ns])
+    ax.set_ylim(-4, 104)
+    ax.set_xlabel("N")
+    ax.set_ylabel(f"% of {R} realisations")
+    ax.legend(frameon=False)
+    ax.set_title(f"model 3, τ = {study.spec.tau:g} %, {_reached_label(study)}")
     return _save(fig, out_dir, "fig14_chaotic_fraction.png")
 
 
-def fig14(out_dir=".", full=False, realisations=30, t_end=2e4, method="yoshida4"):
-    """Fig. 14: percentage of chaotic orbits (SALI < 1e-8) among realisations versus N."""
-    out, t_end = _ensemble((4, 8, 16, 32, 64), full, realisations, t_end, method)
-    return _fig14_from(out, out_dir, t_end)
+def fig12_13(out_dir=".", full=False, **kwargs):
+    """Figs. 12, 13 and 14 from one chaos study (see `chaos_study`)."""
+    study = chaos_study(full=full, out_dir=out_dir, **kwargs)
+    return [fig12(out_dir, study=study), fig13(out_dir, study=study),
+            fig14(out_dir, study=study)]
 
 
-def all_figures(out_dir="figures", full=False, only=None):
-    """Regenerate every figure (1-14); `only` is an optional set of figure numbers. Every
-    figure function is called as ``figN(out_dir, full=full)``."""
+def all_figures(out_dir="figures", full=False, only=None, **study_kwargs):
+    """Regenerate every figure (1-14); `only` is an optional set of figure numbers;
+    study_kwargs (work_dir, t_until, workers, scheduler) go to `chaos_study` (Figs. 12-14).
+    Figs. 1-11 are called as ``figN(out_dir, full=full)``."""
     paths = []
     want = lambda k: only is None or k in only
     for k, fn in ((1, fig1), (2, fig2), (3, fig3), (11, fig11)):
         if want(k):
             paths.append(fn(out_dir, full=full))
     if want(12) or want(13) or want(14):
-        paths += fig12_13(out_dir, full=full)
+        study = chaos_study(full=full, out_dir=out_dir, **study_kwargs)
+        for k, fn in ((12, fig12), (13, fig13), (14, fig14)):
+            if want(k):
+                paths.append(fn(out_dir, study=study))
     from .figures_reduction import FIGURES
     for k in range(4, 11):
         if want(k):
