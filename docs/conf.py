@@ -16,7 +16,7 @@ source_suffix = {".rst": "restructuredtext"}
 exclude_patterns = ["_build", "figures", "**/*.md"]
 root_doc = "index"
 
-autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False}
+autodoc_default_options: dict = {}   # every directive in python.rst names its members
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"          # numpydoc sections carry the types
 numpydoc_show_class_members = False
