@@ -53,11 +53,12 @@ def _shape(a: np.ndarray) -> str:
     return "x".join(str(n) for n in a.shape) if a.ndim else "scalar"
 
 
-def dataclass_repr(obj, lead=(), skip=(), max_len: int = 200) -> str:
+def dataclass_repr(obj, lead=(), skip=(), max_len: int = 220) -> str:
     """One-line summary of a result dataclass: `lead` parts first, then every field with
-    repr=True that is not in `skip`, arrays as their shape, dicts as their scalar items, empty
-    or None values left out, long strings cut."""
-    parts = list(lead)
+    repr=True that is not in `skip` -- flags, then numbers, then strings (cut), then arrays (as
+    their shape) and dicts (their scalar items) -- leaving out empty, None and NaN values, so a
+    cut at `max_len` loses the least telling parts."""
+    flags, numbers, texts, rest = [], [], [], []
     for f in dataclasses.fields(obj):
         if not f.repr or f.name in skip:
             continue
@@ -65,21 +66,24 @@ def dataclass_repr(obj, lead=(), skip=(), max_len: int = 200) -> str:
         if value is None or (isinstance(value, (str, dict, list, tuple)) and not value):
             continue
         if isinstance(value, np.ndarray):
-            parts.append(f"{f.name}[{_shape(value)}]")
+            rest.append(f"{f.name}[{_shape(value)}]")
         elif isinstance(value, dict):
             items = [f"{k}={fmt(v)}" for k, v in value.items()
                      if v is not None and (isinstance(v, (str, bool, int, float, np.generic)))]
             if items:
-                parts.append(f"{f.name}={{{', '.join(items)}}}")
+                rest.append(f"{f.name}={{{', '.join(items)}}}")
         elif isinstance(value, str):
-            parts.append(f"{f.name}={value[:60] + '...' if len(value) > 60 else value!r}")
-        elif isinstance(value, (bool, int, float, np.generic)):
-            if isinstance(value, float) and math.isnan(value):
+            texts.append(f"{f.name}={value[:60] + '...' if len(value) > 60 else value!r}")
+        elif isinstance(value, (bool, np.bool_)):
+            flags.append(f"{f.name}={fmt(value)}")
+        elif isinstance(value, (int, float, np.generic)):
+            if isinstance(value, (float, np.floating)) and math.isnan(value):
                 continue
-            parts.append(f"{f.name}={fmt(value)}")
+            numbers.append(f"{f.name}={fmt(value)}")
         else:
             text = repr(value)
-            parts.append(f"{f.name}={text if len(text) <= 60 else type(value).__name__}")
+            rest.append(f"{f.name}={text if len(text) <= 60 else type(value).__name__}")
+    parts = list(lead) + flags + numbers + texts + rest
     text = f"{type(obj).__name__}({', '.join(parts)})"
     return text if len(text) <= max_len else text[:max_len - 4] + "...)"
 
@@ -141,6 +145,13 @@ class ResultMixin:
         t = self._time()
         if t is not None:
             lead.append(time_span(t).replace("t=", f"{self._time_field}=", 1))
+        classify = getattr(self, "classify", None)
+        if callable(classify):      # a result that can name its class says it first
+            try:
+                lead.append(f"class={classify()!r}")
+            except Exception:       # a repr never raises
+                pass
+        if t is not None:
             skip.add(self._time_field)
             last = []
             for f in dataclasses.fields(self):

@@ -43,11 +43,12 @@ def test_result_reprs_are_short(chaos_result):
     modal = reduction.two_mode_run(reduction.two_mode_coefficients(64, 0.25), 50.0)
     for obj in (chaos_result, b, modal):
         text = repr(obj)
-        assert len(text) <= 200 and "\n" not in text, text
+        assert len(text) <= 220 and "\n" not in text, text      # two lines at most
         assert text.startswith(type(obj).__name__ + "(")
         assert "array(" not in text
     assert "N=8" in repr(chaos_result) and f"{chaos_result.t.size} samples" in repr(chaos_result)
     assert f"mle={chaos_result.mle[-1]:.4g}" in repr(chaos_result)
+    assert f"class={chaos_result.classify()!r}" in repr(chaos_result)
     assert "blew_up=True" in repr(b) and "time=2545" in repr(b)
 
 
