@@ -201,6 +201,7 @@ def test_classes_are_exactly_four_and_dated():
     (dict(t_end=1e300), "renormalisations"),
     (dict(t_end=10.0, renorm_interval=1e-3), "renorm_interval"),      # below dt = 0.01
     (dict(t_end=10.0, blowup_stretch=float("nan")), "blowup_stretch"),
+    (dict(t_end=1e14, dt=1e-3, renorm_interval=1e3), "step counter"),
 ])
 def test_bad_chaos_options(kwargs, word):
     with pytest.raises(ValueError, match=word):
