@@ -275,6 +275,13 @@ int fpl_chaos_create(fpl_lattice *lattice, const char *method,
             return fpl_error(NULL, FPL_ERR_ARG, "renorm_interval = %g is smaller than the step "
                              "dt = %g (renormalise at most once per step)", opt->renorm_interval, dt);
         }
+        /* the step count is a 64-bit integer and times t0 + n dt must stay exact */
+        if (!adaptive && !((opt->t_end - t0) / dt <= 9.0e15)) {
+            fpl_chaos_free(&c);
+            return fpl_error(NULL, FPL_ERR_ARG, "t_end - t0 = %g needs %g steps of dt = %g: more "
+                             "than the step counter holds exactly (9e15)", opt->t_end - t0,
+                             (opt->t_end - t0) / dt, dt);
+        }
     }
     c->t0 = t0;
     c->t_pending = NAN;

@@ -238,6 +238,9 @@ def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, met
         raise ValueError(f"first_seed must be an integer >= 0 (got {first_seed!r})")
     if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
         raise ValueError(f"workers must be an integer >= 1 (got {workers!r})")
+    if kind == "chaos":      # the validated fast scheme and early stop, unless given
+        from .chaos import ensemble_defaults
+        method, task_options = ensemble_defaults(method, task_options)
     method = "yoshida4" if method is None else method
     if not isinstance(method, str):
         raise ValueError(f"method must be a string (got {method!r})")

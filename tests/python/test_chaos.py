@@ -97,7 +97,10 @@ def test_chaotic_fraction_percent_is_the_share_of_chaotic_records():
     # a record is the same orbit as a serial run of that realisation
     k = classes.index("blow-up")
     lat = Lattice(N, 0.25, "nonlinear", tau=20.0, seed=k + 1)
-    direct = chaos.lyapunov(lat, T, y0=y0, n_samples=20, stop_when_chaotic=True)
+    # ensembles default to the validated fast scheme and early stop
+    assert recs[k].method == chaos.ENSEMBLE_METHOD and recs[k].params["dt"] == chaos.ENSEMBLE_DT
+    direct = chaos.lyapunov(lat, T, y0=y0, n_samples=20, stop_when_chaotic=True,
+                            method=chaos.ENSEMBLE_METHOD, dt=chaos.ENSEMBLE_DT)
     np.testing.assert_array_equal(direct.mle, recs[k].mle)
     assert direct.t_blowup == recs[k].t_blowup
 
@@ -157,7 +160,8 @@ def test_blowup_is_never_chaos(seed, blowup_stretch):
     assert res.classify(t_eval=res.t_blowup - 1) in ("regular", "undecided")
     # the sweep record and the chaotic fraction agree
     out = chaos.chaotic_fraction(Ns=(64,), realisations=1, tau=20.0, t_end=1e4,
-                                 first_seed=seed, workers=1, blowup_stretch=blowup_stretch)
+                                 first_seed=seed, workers=1, blowup_stretch=blowup_stretch,
+                                 method="yoshida4", dt=0.01)
     assert out["percent"] == [0.0] and out["blowups"] == [1]
 
 
@@ -197,6 +201,7 @@ def test_classes_are_exactly_four_and_dated():
     (dict(t_end=1e300), "renormalisations"),
     (dict(t_end=10.0, renorm_interval=1e-3), "renorm_interval"),      # below dt = 0.01
     (dict(t_end=10.0, blowup_stretch=float("nan")), "blowup_stretch"),
+    (dict(t_end=1e14, dt=1e-3, renorm_interval=1e3), "step counter"),
 ])
 def test_bad_chaos_options(kwargs, word):
     with pytest.raises(ValueError, match=word):
