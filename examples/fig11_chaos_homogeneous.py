@@ -16,4 +16,4 @@ if __name__ == "__main__":
     p.add_argument("--out", default="figures")
     p.add_argument("--full", action="store_true")
     a = p.parse_args()
-    print(fig11(a.out, a.full))
+    print(fig11(a.out, full=a.full))

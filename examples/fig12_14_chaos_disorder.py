@@ -26,5 +26,5 @@ if __name__ == "__main__":
     p.add_argument("--full", action="store_true", help="continue to t = 1e8")
     p.add_argument("--t-end", type=float, help="how far to go in this call (default 1e5)")
     a = p.parse_args()
-    for path in fig12_13(a.out, a.full, work_dir=a.work_dir, t_until=a.t_end):
+    for path in fig12_13(a.out, full=a.full, work_dir=a.work_dir, t_until=a.t_end):
         print(path)

@@ -17,14 +17,6 @@ def _plt():
     return plt
 
 
-def _save(fig, out_dir, name):
-    os.makedirs(out_dir, exist_ok=True)
-    path = os.path.join(out_dir, name)
-    fig.savefig(path, dpi=110)
-    _plt().close(fig)
-    return path
-
-
 def fig1(out_dir=".", *, full: bool = False):
     """Fig. 1: FPUT recurrence of the homogeneous chain, N = 64 (envelope of x_j, E_1..E_4).
 
@@ -141,31 +133,43 @@ def fig3(out_dir=".", *, full: bool = False, seed: int = 1):
     return save(fig, target(out_dir, "fig03_blowup.png"), numbers)
 
 
-def _chaos_panels(results, title, out_dir, name, t_end):
-    plt = _plt()
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.2), constrained_layout=True)
-    for label, res in results:
-        a.loglog(res.t, np.abs(res.mle), lw=0.8, label=label)
-        b.loglog(res.t, res.sali, lw=0.8, label=label)
-    tt = np.logspace(0, np.log10(t_end), 50)
-    a.loglog(tt, 1.0 / tt, "k--", lw=1, label="1/t")
-    a.set_xlabel("$t$"); a.set_ylabel("mLE $\\lambda(t)$")
-    b.set_xlabel("$t$"); b.set_ylabel("SALI")
-    b.axhline(1e-8, color="gray", lw=0.6, ls=":")
-    if len(results) <= 8:
-        a.legend(frameon=False, fontsize=8)
-    a.set_title(title)
-    return _save(fig, out_dir, name)
+def fig11(out_dir=".", *, full: bool = False, t_end: float | None = None):
+    """Fig. 11: the homogeneous chain (Eq. Hamilt), N = 4, 8, 16, 32, 64, the paper's mode-1
+    initial state: regular orbits (lambda ~ 1/t, SALI bounded away from 0). Tangent-map method
+    with Yoshida 4 at dt = 0.01 (the paper's), to t = 1e5 (full: 1e8, CPU-days).
 
+    Parameters
+    ----------
+    out_dir : path, optional
+        Directory of the PNG (fig11_chaos_homogeneous.png), or a .png file name.
+    full : bool, optional
+        The paper's length t = 1e8.
+    t_end : float, optional
+        Another final time.
 
-def fig11(out_dir=".", full=False):
-    """Fig. 11: homogeneous chain, N = 4..64, paper initial state: regular (lambda ~ 1/t, SALI
-    bounded away from 0). Tangent-map method with Yoshida 4, dt = 0.01."""
+    Returns
+    -------
+    Figure
+        The PNG's path; ``numbers``: {"N": [...], "mle_final": [...], "sali_final": [...]}.
+    """
+    from ._figure import save, target
     from .chaos import lyapunov
     from .lattice import Lattice
-    t_end = 1e8 if full else 1e5
-    res = [(f"N = {N}", lyapunov(Lattice(N, 0.25), t_end, n_samples=100)) for N in (4, 8, 16, 32, 64)]
-    return _chaos_panels(res, f"homogeneous, t = {t_end:g}", out_dir, "fig11_chaos_homogeneous.png", t_end)
+    from .plotting import plot_mle, plot_sali
+    t_end = (1e8 if full else 1e5) if t_end is None else float(t_end)
+    Ns = (4, 8, 16, 32, 64)
+    res = [lyapunov(Lattice(N, 0.25), t_end, n_samples=100) for N in Ns]
+    plt = _plt()
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.2), constrained_layout=True)
+    labels = [f"N = {N}" for N in Ns]
+    plot_mle(res, a, labels=labels)
+    plot_sali(res, b, labels=labels, legend=None)
+    a.set_title(f"(a) homogeneous chain, Yoshida 4, dt = 0.01, t = {t_end:.0e}", loc="left",
+                fontsize=10)
+    b.set_title("(b) SALI", loc="left", fontsize=10)
+    return save(fig, target(out_dir, "fig11_chaos_homogeneous.png"),
+                {"N": list(Ns), "mle_final": [r.mle_final for r in res],
+                 "sali_final": [float(r.sali[-1]) for r in res]})
 
 
 #: how far the chaos study goes for the quick figures 12-14 (--full: the paper's t = 1e8)
@@ -194,62 +198,78 @@ def _reached_label(study):
 
 
 def _study_panels(study, Ns, name, letters, out_dir):
-    """Rows of (lambda(t) with the 1/t guide, SALI(t)) for each N: one colour per realisation."""
+    """Rows of (lambda(t) with the 1/t guide, SALI(t)) for each N: one colour per realisation,
+    every orbit drawn up to the time all of them have reached."""
+    from ._figure import save, target
+    from .plotting import plot_mle, plot_sali
     plt = _plt()
     res = study.results()
     fig, axes = plt.subplots(len(Ns), 2, figsize=(11, 3.3 * len(Ns)), constrained_layout=True,
                              squeeze=False)
     t_top = study.reached()
-    cmap = plt.get_cmap("turbo")
     R = study.spec.realisations
+    cmap = plt.get_cmap("turbo")
+    numbers = {"t": t_top}
     for row, N in enumerate(Ns):
         a, b = axes[row]
-        for i, r in enumerate(res[N]):
+        shown = []
+        for r in res[N]:
             if r is None or not r.t.size:
                 continue
-            c = cmap(i / max(R - 1, 1))
             k = r.t <= t_top * (1 + 1e-12)      # orbits ahead of the others: up to the same t
-            a.loglog(r.t[k], np.abs(r.mle[k]), lw=0.7, color=c)
-            b.loglog(r.t[k], np.maximum(r.sali[k], 1e-17), lw=0.7, color=c)
-        tt = np.logspace(0, np.log10(max(t_top, 10.0)), 50)
-        a.loglog(tt, 1.0 / tt, "k--", lw=1.2, label="1/t")
-        b.axhline(study.spec.sali_threshold, color="gray", lw=0.8, ls=":", label="threshold")
+            shown.append({"t": r.t[k], "mle": r.mle[k], "sali": np.maximum(r.sali[k], 1e-17)})
+        colors = [cmap(i / max(len(shown) - 1, 1)) for i in range(len(shown))]
+        plot_mle(shown, a, colors=colors, lw=0.7, legend="lower left")
+        plot_sali(shown, b, colors=colors, lw=0.7, threshold=study.spec.sali_threshold,
+                  legend=None)
         counts = study.classes(t_top)[N]
+        numbers[f"N{N}"] = counts
         summary = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
-        a.set_title(f"({letters[2 * row]}) N = {N}: mLE   [at t = {t_top:.0e}: {summary}]",
+        a.set_title(f"({letters[2 * row]}) N = {N}   [at t = {t_top:.0e}: {summary}]",
                     fontsize=10, loc="left")
-        b.set_title(f"({letters[2 * row + 1]}) N = {N}: SALI", fontsize=10, loc="left")
-        a.set_ylabel("mLE λ(t)")
-        b.set_ylabel("SALI(t)")
+        b.set_title(f"({letters[2 * row + 1]}) N = {N}", fontsize=10, loc="left")
         b.set_ylim(1e-17, 3)
-        for ax in (a, b):
-            ax.set_xlabel("t")
-        a.legend(frameon=False, fontsize=8, loc="lower left")
     s = study.spec
     fig.suptitle(f"model 3, τ = {s.tau:g} %, {R} realisations, {s.method} dt = {s.dt:g}, "
                  f"{_reached_label(study)}")
-    return _save(fig, out_dir, name)
+    return save(fig, target(out_dir, name), numbers)
 
 
-def fig12(out_dir=".", full=False, *, study=None, **kwargs):
-    """Fig. 12: model 3, tau = 10 %, 30 realisations; lambda(t) with the 1/t guide and SALI(t)
-    for N = 4 (a, b), 8 (c, d), 16 (e, f). kwargs go to `chaos_study`."""
-    study = study or chaos_study(full=full, out_dir=out_dir, **kwargs)
+def fig12(out_dir=".", *, full: bool = False, study=None, **study_options):
+    """Fig. 12: model 3 (Eq. varnonlin), tau = 10 %, 30 realisations: lambda(t) with the 1/t
+    guide and SALI(t) for N = 4 (a, b), 8 (c, d), 16 (e, f), drawn from the resumable chaos
+    study (`chaos_study`; `study_options` go to it, `study` reuses one).
+
+    Returns
+    -------
+    Figure
+        The PNG's path; ``numbers``: the time reached and the class counts per N.
+    """
+    study = study or chaos_study(full=full, out_dir=out_dir, **study_options)
     return _study_panels(study, [N for N in (4, 8, 16) if N in study.spec.Ns],
                          "fig12_chaos_N4_8_16.png", "abcdef", out_dir)
 
 
-def fig13(out_dir=".", full=False, *, study=None, **kwargs):
+def fig13(out_dir=".", *, full: bool = False, study=None, **study_options):
     """Fig. 13: as Fig. 12 for N = 32 (a, b) and 64 (c, d)."""
-    study = study or chaos_study(full=full, out_dir=out_dir, **kwargs)
+    study = study or chaos_study(full=full, out_dir=out_dir, **study_options)
     return _study_panels(study, [N for N in (32, 64) if N in study.spec.Ns],
                          "fig13_chaos_N32_64.png", "abcd", out_dir)
 
 
-def fig14(out_dir=".", full=False, *, study=None, **kwargs):
+def fig14(out_dir=".", *, full: bool = False, study=None, **study_options):
     """Fig. 14: percentage of chaotic orbits (SALI < 1e-8 on a finite orbit) among the
-    realisations versus N, with the percentage that blew up (never counted as chaotic)."""
-    study = study or chaos_study(full=full, out_dir=out_dir, **kwargs)
+    realisations versus N, with the percentage that blew up (never counted as chaotic), at the
+    time every orbit has reached.
+
+    Returns
+    -------
+    Figure
+        The PNG's path; ``numbers``: {"t", "N", "percent_chaotic", "percent_blowup",
+        "classes"}.
+    """
+    from ._figure import save, target
+    study = study or chaos_study(full=full, out_dir=out_dir, **study_options)
     plt = _plt()
     t = study.reached()
     counts = study.classes(t)
@@ -260,7 +280,7 @@ def fig14(out_dir=".", full=False, *, study=None, **kwargs):
     ax.plot(Ns, pct("chaotic"), "ko-", label="chaotic")
     ax.plot(Ns, pct("blow-up"), "s--", color="tab:red", label="blew up (not chaos)")
     if any(counts[N]["not reached"] for N in Ns):
-        ax.plot(Ns, pct("not reached"), "x:", color="gray", label="not yet reached t")
+        ax.plot(Ns, pct("not reached"), "x:", color="gray", label="not yet at t")
     ax.set_xscale("log", base=2)
     ax.set_xticks(Ns, [str(N) for N in Ns])
     ax.set_ylim(-4, 104)
@@ -268,12 +288,14 @@ def fig14(out_dir=".", full=False, *, study=None, **kwargs):
     ax.set_ylabel(f"% of {R} realisations")
     ax.legend(frameon=False)
     ax.set_title(f"model 3, τ = {study.spec.tau:g} %, {_reached_label(study)}")
-    return _save(fig, out_dir, "fig14_chaotic_fraction.png")
+    return save(fig, target(out_dir, "fig14_chaotic_fraction.png"),
+                {"t": t, "N": Ns, "percent_chaotic": pct("chaotic"),
+                 "percent_blowup": pct("blow-up"), "classes": counts})
 
 
-def fig12_13(out_dir=".", full=False, **kwargs):
+def fig12_13(out_dir=".", *, full: bool = False, **study_options):
     """Figs. 12, 13 and 14 from one chaos study (see `chaos_study`)."""
-    study = chaos_study(full=full, out_dir=out_dir, **kwargs)
+    study = chaos_study(full=full, out_dir=out_dir, **study_options)
     return [fig12(out_dir, study=study), fig13(out_dir, study=study),
             fig14(out_dir, study=study)]
 
