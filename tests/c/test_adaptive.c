@@ -9,7 +9,7 @@
 #include "check.h"
 #include "fputlab.h"
 /* The table is internal to the library (hidden symbol): compile our own copy of it. */
-#include "../../csrc/tables/dop853.c"
+#include "../../csrc/integrators/dop853.c"
 
 static const char *const adaptive[] = {"dop853", "dopri5", "verner65", "fehlberg87",
                                        "cvode-adams", "cvode-bdf", "gsl-rk8pd"};
@@ -123,7 +123,7 @@ static void test_dop853_table(void)
     CHECK(ret == 0 || ret == 1, "CheckOrder returned %d (q %d, p %d)", ret, q, p);
     CHECK(q >= 6, "method order %d (all conditions up to order 6 hold)", q);
     CHECK(p == 5, "embedding order %d, expected exactly 5", p);
-    /* 12 stages of dop853.f + the FSAL stage f(t + h, y_new) (see csrc/tables/dop853.c) */
+    /* 12 stages of dop853.f + the FSAL stage f(t + h, y_new) (see csrc/integrators/dop853.c) */
     CHECK(B->stages == 13 && B->q == 8 && B->p == 5, "table metadata");
     for (int j = 0; j < 13; j++)
         CHECK(B->A[12][j] == B->b[j] && B->c[12] == 1.0 && B->b[12] == 0.0, "FSAL stage %d", j);
