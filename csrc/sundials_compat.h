@@ -2,7 +2,8 @@
  * 7.x) lives in this private header; the back ends and the examples' tests spell each call once.
  *
  *   context       6.x SUNContext_Create(void *comm = NULL, ...); 7.x SUNContext_Create(SUNComm,
- *                 ...) with SUN_COMM_NULL (MPI_COMM_NULL when SUNDIALS was built with MPI).
+ *                 ...) with SUN_COMM_NULL (MPI_COMM_NULL when SUNDIALS was built with MPI);
+ *                 the public fputlab/sundials.h has FPL_SUN_COMM_NULL for embedders.
  *   error report  6.x per solver (ERKStepSetErrHandlerFn, CVodeSetErrHandlerFn); 7.x removed them:
  *                 errors go to the context's handler stack (SUNContext_PushErrHandler), warnings
  *                 to the context's logger, which by default prints (errors to stderr, warnings to
@@ -59,14 +60,6 @@ void fpl_sun_context_free(SUNContext *ctx, void **logger);
 void fpl_sun_err_handler6(int error_code, const char *module, const char *function, char *msg,
                           void *user_data);
 #define FPL_SUN_SET_ERR_HANDLER(set_fn, mem, buf) set_fn((mem), fpl_sun_err_handler6, (buf))
-#endif
-
-/* For programs (tests, examples) that create their own context and do not mind SUNDIALS's
- * default reporting. */
-#if FPL_SUNDIALS7
-#define FPL_SUN_COMM_NULL SUN_COMM_NULL
-#else
-#define FPL_SUN_COMM_NULL NULL
 #endif
 
 #endif

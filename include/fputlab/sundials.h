@@ -1,4 +1,5 @@
-/* fputlab — the lattice models in SUNDIALS callback form, for ARKODE and CVODE (SUNDIALS 6.x).
+/* fputlab — the lattice models in SUNDIALS callback form, for ARKODE and CVODE (SUNDIALS 6.x or
+ * 7.x: the declarations use only types common to both, sunrealtype and sunindextype).
  *
  * user_data is an fpl_lattice*. The number of deviation vectors is read from the N_Vector
  * length, 2N(1 + n_dev), so the same callbacks integrate the orbit alone or the orbit with
@@ -17,8 +18,18 @@
 #define FPUTLAB_SUNDIALS_H
 
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
 #include <sundials/sundials_matrix.h>
 #include "fputlab/lattice.h"
+
+/* The "no communicator" argument of SUNContext_Create in the SUNDIALS you compile against:
+ * SUNContext_Create(FPL_SUN_COMM_NULL, &ctx) works with 6.x (void *comm, NULL) and 7.x
+ * (SUNComm, SUN_COMM_NULL, which is MPI_COMM_NULL when SUNDIALS was built with MPI). */
+#if SUNDIALS_VERSION_MAJOR >= 7
+#define FPL_SUN_COMM_NULL SUN_COMM_NULL
+#else
+#define FPL_SUN_COMM_NULL NULL
+#endif
 
 #ifdef __cplusplus
 extern "C" {

@@ -3,11 +3,15 @@
  * paper's model 3 (every method against Yoshida 4; every splitting scheme against DOP853 and
  * CVODE, with its observed order), deviation vectors against finite differences and the
  * symplectic tangent map, and failures (bad tolerances, too much work, blow-up). */
+#define _POSIX_C_SOURCE 200809L /* dup, dup2, fileno: test_silent */
 #include <string.h>
+#include <unistd.h>
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_serial.h>
 #include "check.h"
 #include "fputlab.h"
+#include "fputlab/sundials.h"
+#include "../../csrc/sundials_compat.h" /* FPL_ARK: ARKode* on >= 7.1 */
 /* The table is internal to the library (hidden symbol): compile our own copy of it. */
 #include "../../csrc/integrators/dop853.c"
 
@@ -96,17 +100,17 @@ static double kepler_error(SUNContext ctx, double h, double rtol, double tend, l
     ARKodeButcherTable B = fpl_dop853_table();
     ERKStepSetTable(mem, B);
     ARKodeButcherTable_Free(B);
-    ERKStepSetMaxNumSteps(mem, 1000000);
-    if (h > 0.0) ERKStepSetFixedStep(mem, h);
-    else ERKStepSStolerances(mem, rtol, rtol * 1e-2);
-    ERKStepSetStopTime(mem, tend);
+    FPL_ARK(ERKStep, SetMaxNumSteps)(mem, 1000000);
+    if (h > 0.0) FPL_ARK(ERKStep, SetFixedStep)(mem, h);
+    else FPL_ARK(ERKStep, SStolerances)(mem, rtol, rtol * 1e-2);
+    FPL_ARK(ERKStep, SetStopTime)(mem, tend);
     double t = 0.0, ex[4];
-    int flag = ERKStepEvolve(mem, tend, y, &t, ARK_NORMAL);
+    int flag = FPL_ARK(ERKStep, Evolve)(mem, tend, y, &t, ARK_NORMAL);
     CHECK(flag >= 0, "ERKStepEvolve (Kepler, h = %g, rtol = %g): flag %d", h, rtol, flag);
     kepler_exact(tend, ex);
     double err = max_abs_diff(N_VGetArrayPointer(y), ex, 4);
-    ERKStepGetNumSteps(mem, nsteps);
-    ERKStepFree(&mem);
+    FPL_ARK(ERKStep, GetNumSteps)(mem, nsteps);
+    FPL_ARK(ERKStep, Free)(&mem);
     N_VDestroy(y);
     return err;
 }
@@ -137,7 +141,7 @@ static void test_dop853_table(void)
      * the FSAL stage, SUNDIALS 6.4 reuses f of the 12th stage as the next first stage and the
      * observed order is ~5.7. */
     SUNContext ctx;
-    SUNContext_Create(NULL, &ctx);
+    SUNContext_Create(FPL_SUN_COMM_NULL, &ctx);
     const double T = 2.0 * M_PI;
     long ns;
     double e1 = kepler_error(ctx, T / 150, 0.0, T, &ns);
@@ -441,6 +445,58 @@ static void test_failures(void)
     fpl_lattice_free(&lat);
 }
 
+/* The library never prints: SUNDIALS failures and warnings (too much work, a blow-up with its
+ * "t + h = t" warnings) leave nothing on stdout/stderr, with SUNDIALS 6.4 (per-solver handler)
+ * and 7.x (context handler stack and logger, which print by default). */
+static void test_silent(void)
+{
+    fflush(stdout);
+    fflush(stderr);
+    FILE *cap = tmpfile();
+    CHECK(cap != NULL, "tmpfile");
+    if (!cap) return;
+    int out = dup(1), err = dup(2);
+    dup2(fileno(cap), 1);
+    dup2(fileno(cap), 2);
+    fpl_lattice *lat = NULL;
+    double y0[32], y[32], z0[8], z[8];
+    int statuses = 0;
+    model3_lattice(&lat, y0);
+    for (int m = 0; m < N_ADAPTIVE; m++) {
+        fpl_integrator_options opt;
+        fpl_integrator_options_init(&opt);
+        opt.max_steps = 10;
+        fpl_integrator *h = NULL;
+        if (fpl_integrator_create(lat, adaptive[m], 0, &opt, 0.0, y0, &h) == FPL_OK)
+            statuses += fpl_integrator_advance(h, 1e4, y) < 0;
+        fpl_integrator_free(&h);
+    }
+    fpl_lattice_free(&lat);
+    fpl_lattice_create(4, 0.25, 0.0, FPL_MODEL_HOMOGENEOUS, NULL, &lat);
+    fpl_modes_initial_state(lat, 1, 30.0, z0);
+    for (int m = 0; m < N_ADAPTIVE; m++) {
+        fpl_integrator *h = NULL;
+        if (fpl_integrator_create(lat, adaptive[m], 0, NULL, 0.0, z0, &h) == FPL_OK)
+            statuses += fpl_integrator_advance(h, 100.0, z) < 0;
+        fpl_integrator_free(&h);
+    }
+    fpl_lattice_free(&lat);
+    fflush(stdout);
+    fflush(stderr);
+    dup2(out, 1);
+    dup2(err, 2);
+    close(out);
+    close(err);
+    fseek(cap, 0, SEEK_END);
+    long printed = ftell(cap);
+    char head[200] = "";
+    rewind(cap);
+    if (printed > 0 && !fgets(head, sizeof head, cap)) head[0] = '\0';
+    fclose(cap);
+    CHECK(statuses == 2 * N_ADAPTIVE, "every run failed as intended (%d)", statuses);
+    CHECK(printed == 0, "the library printed %ld bytes: %s", printed, head);
+}
+
 static void test_registry(void)
 {
     for (int m = 0; m < N_ADAPTIVE; m++) {
@@ -458,5 +514,6 @@ int main(void)
     test_model3();
     test_deviations();
     test_failures();
+    test_silent();
     return check_report("adaptive");
 }

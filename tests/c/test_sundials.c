@@ -110,7 +110,7 @@ static void test_cvode(SUNContext ctx, int band)
 int main(void)
 {
     SUNContext ctx;
-    SUNContext_Create(NULL, &ctx);
+    SUNContext_Create(FPL_SUN_COMM_NULL, &ctx);
     test_callbacks(ctx);
     test_cvode(ctx, 0);
     test_cvode(ctx, 1);
