@@ -2,6 +2,7 @@
  * error messages and warnings go. */
 #include <stdio.h>
 #include <stdlib.h>
+#include "fputlab/common.h"
 #include "sundials_compat.h"
 #if FPL_SUNDIALS7
 #include <sundials/sundials_errors.h>
@@ -68,3 +69,5 @@ void fpl_sun_context_free(SUNContext *ctx, void **logger)
 #endif
     *logger = NULL;
 }
+
+const char *fpl_sundials_version(void) { return SUNDIALS_VERSION; }

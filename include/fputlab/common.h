@@ -36,6 +36,9 @@ enum fpl_status {
 /* Library version as "MAJOR.MINOR.PATCH". */
 FPL_API const char *fpl_version(void);
 
+/* Version of the SUNDIALS the library was built against, e.g. "6.4.1" or "7.1.1". */
+FPL_API const char *fpl_sundials_version(void);
+
 /* Message of the last failing fputlab call in this thread ("" if none). */
 FPL_API const char *fpl_last_error(void);
 
