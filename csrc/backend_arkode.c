@@ -2,8 +2,8 @@
  * are in sundials_compat.h) with built-in tables (Dormand-Prince 5(4), Verner 6(5), Fehlberg
  * 8(7)) and Hairer's DOP853 as a custom table (integrators/dop853.c). Every ERKStep call of the
  * library lives in this file; the part shared with CVODE (data, failures, classification of a
- * return) is in sundials_common.c. Tables are passed through fsal_safe(), which works around an
- * ERKStep 6.4 FSAL bug (see there).
+ * return) is in sundials_common.c. Tables are passed through fpl_sun_erk_fsal_safe(), which
+ * works around an ERKStep 6.4 FSAL bug (see there; exported with fpl_sun_erk_table).
  *
  * The solver integrates the orbit and its variational equations together (fpl_sun_rhs reads
  * n_dev from the vector length), so the step-size control also covers the deviation vectors.
@@ -37,38 +37,61 @@ static void ark_release(fpl_integrator *h)
  * DOP853 (measured: DOP853 at fixed steps converges with order ~5.7 instead of 8). Such a
  * table gets one more stage, c = 1, a_(s+1)j = b_j, weight 0: f(t + h, y_new), which makes it
  * truly FSAL. It costs no extra evaluation: without the bug a non-FSAL table needs
- * f(t + h, y_new) for the next step anyway. Takes ownership of B; NULL if out of memory. */
-static ARKodeButcherTable fsal_safe(ARKodeButcherTable B)
+ * f(t + h, y_new) for the next step anyway. Exported for embedders (fputlab/sundials.h). */
+int fpl_sun_erk_fsal_safe(ARKodeButcherTable B, ARKodeButcherTable *safe)
 {
-    if (!B) return NULL;
+    if (!safe) return fpl_error(NULL, FPL_ERR_ARG, "safe: NULL pointer");
+    *safe = NULL;
+    if (!B || B->stages < 1 || !B->A || !B->b || !B->c)
+        return fpl_error(NULL, FPL_ERR_ARG, "table: NULL or incomplete Butcher table");
     const int s = B->stages;
     int fsal = 1;
     for (int j = 0; j < s; j++)
         if (B->A[s - 1][j] != B->b[j]) fsal = 0;
-    if (B->c[s - 1] != 1.0 || fsal) return B;
+    if (B->c[s - 1] != 1.0 || fsal) {
+        *safe = ARKodeButcherTable_Copy(B);
+        return *safe ? FPL_OK : fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    }
     const int t = s + 1;
     double *buf = calloc((size_t)(t * t + 3 * t), sizeof(double));
-    ARKodeButcherTable E = NULL;
-    if (buf) {
-        double *A = buf, *c = A + t * t, *b = c + t, *d = b + t;
-        for (int i = 0; i < s; i++) {
-            c[i] = B->c[i];
-            b[i] = B->b[i];
-            d[i] = B->d ? B->d[i] : 0.0;
-            for (int j = 0; j < s; j++) A[i * t + j] = B->A[i][j];
-            A[s * t + i] = B->b[i];
-        }
-        c[s] = 1.0;
-        E = ARKodeButcherTable_Create(t, B->q, B->p, c, A, b, B->d ? d : NULL);
-        free(buf);
+    if (!buf) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    double *A = buf, *c = A + t * t, *b = c + t, *d = b + t;
+    for (int i = 0; i < s; i++) {
+        c[i] = B->c[i];
+        b[i] = B->b[i];
+        d[i] = B->d ? B->d[i] : 0.0;
+        for (int j = 0; j < s; j++) A[i * t + j] = B->A[i][j];
+        A[s * t + i] = B->b[i];
     }
+    c[s] = 1.0;
+    *safe = ARKodeButcherTable_Create(t, B->q, B->p, c, A, b, B->d ? d : NULL);
+    free(buf);
+    return *safe ? FPL_OK : fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+}
+
+static const fpl_method *find_erk_method(const char *name);
+
+int fpl_sun_erk_table(const char *method, ARKodeButcherTable *table)
+{
+    if (!table) return fpl_error(NULL, FPL_ERR_ARG, "table: NULL pointer");
+    *table = NULL;
+    if (!method) return fpl_error(NULL, FPL_ERR_ARG, "method: NULL name");
+    const fpl_method *fm = find_erk_method(method);
+    if (!fm)
+        return fpl_error(NULL, FPL_ERR_UNKNOWN,
+                         "method '%s' has no ERKStep table (known: dopri5, verner65, fehlberg87, "
+                         "dop853)", method);
+    const ark_method *m = fm->data;
+    ARKodeButcherTable B =
+        m->custom_dop853 ? fpl_dop853_table() : ARKodeButcherTable_LoadERK(m->table);
+    if (!B) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    int st = fpl_sun_erk_fsal_safe(B, table);
     ARKodeButcherTable_Free(B);
-    return E;
+    return st;
 }
 
 static int ark_init(fpl_integrator *h)
 {
-    const ark_method *m = h->method->data;
     int flag = fpl_sun_data_create(h, "ARKODE");
     if (flag != FPL_OK) return flag;
     fpl_sun_data *d = h->data;
@@ -79,9 +102,8 @@ static int ark_init(fpl_integrator *h)
     if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "ERKStepSetErrHandlerFn", flag);
     if ((flag = FPL_ARK(ERKStep, SetUserData)(d->mem, h->lat)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "ERKStepSetUserData", flag);
-    ARKodeButcherTable B =
-        fsal_safe(m->custom_dop853 ? fpl_dop853_table() : ARKodeButcherTable_LoadERK(m->table));
-    if (!B) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    ARKodeButcherTable B = NULL;
+    if ((flag = fpl_sun_erk_table(h->method->name, &B)) != FPL_OK) return flag;
     flag = ERKStepSetTable(d->mem, B); /* ERKStep keeps its own copy */
     ARKodeButcherTable_Free(B);
     if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "ERKStepSetTable", flag);
@@ -176,3 +198,10 @@ const fpl_method fpl_methods_arkode[] = {
     {"dop853", 8, &backend_arkode, &m_dop853},
     {NULL, 0, NULL, NULL},
 };
+
+static const fpl_method *find_erk_method(const char *name)
+{
+    for (const fpl_method *m = fpl_methods_arkode; m->name; m++)
+        if (strcmp(m->name, name) == 0) return m;
+    return NULL;
+}

@@ -17,6 +17,8 @@
 #ifndef FPUTLAB_SUNDIALS_H
 #define FPUTLAB_SUNDIALS_H
 
+#include <stdio.h> /* arkode_butcher.h of SUNDIALS 6.4 uses FILE without including stdio.h */
+#include <arkode/arkode_butcher.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_config.h>
 #include <sundials/sundials_matrix.h>
@@ -55,6 +57,24 @@ FPL_API int fpl_sun_roots(sunrealtype t, N_Vector y, sunrealtype *gout, void *us
 /* Jacobian-times-vector (ARKLsJacTimesVecFn / CVLsJacTimesVecFn) for matrix-free Krylov solvers. */
 FPL_API int fpl_sun_jtimes(N_Vector v, N_Vector jv, sunrealtype t, N_Vector y, N_Vector fy,
                            void *user_data, N_Vector tmp);
+
+/* ERKStep Butcher tables, safe from the SUNDIALS 6.4 ERKStep FSAL bug.
+ * ERKStep 6.4 treats every table whose last node is c_s = 1 as first-same-as-last and reuses the
+ * last stage's f as the next step's first stage, even when that stage is not at the new solution
+ * (a_sj != b_j): Verner 8-5-6, Fehlberg 13-7-8 and DOP853 then lose their order (DOP853 at fixed
+ * steps: ~5.7 instead of 8). fpl_sun_erk_fsal_safe returns a copy of any table with, if needed,
+ * one more stage c = 1, a_(s+1)j = b_j, weight 0 (f at the new solution): truly FSAL, same
+ * solution, no extra f evaluations. Harmless with SUNDIALS 7.
+ * fpl_sun_erk_table gives the (safe) tables of fputlab's methods "dopri5", "verner65",
+ * "fehlberg87", "dop853" (Hairer's DOP853 with its 5th-order embedding):
+ *
+ *     ARKodeButcherTable B;
+ *     if (fpl_sun_erk_table("dop853", &B) == 0) { ERKStepSetTable(mem, B); ARKodeButcherTable_Free(B); }
+ *
+ * Both return a new table in *out (free it with ARKodeButcherTable_Free), or NULL and an error
+ * status (unknown method name, NULL or incomplete table, out of memory). */
+FPL_API int fpl_sun_erk_table(const char *method, ARKodeButcherTable *out);
+FPL_API int fpl_sun_erk_fsal_safe(ARKodeButcherTable table, ARKodeButcherTable *out);
 
 #ifdef __cplusplus
 }

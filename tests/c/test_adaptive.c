@@ -12,8 +12,6 @@
 #include "fputlab.h"
 #include "fputlab/sundials.h"
 #include "../../csrc/sundials_compat.h" /* FPL_ARK: ARKode* on >= 7.1 */
-/* The table is internal to the library (hidden symbol): compile our own copy of it. */
-#include "../../csrc/integrators/dop853.c"
 
 static const char *const adaptive[] = {"dop853", "dopri5", "verner65", "fehlberg87",
                                        "cvode-adams", "cvode-bdf", "gsl-rk8pd"};
@@ -97,7 +95,8 @@ static double kepler_error(SUNContext ctx, double h, double rtol, double tend, l
     N_Vector y = N_VNew_Serial(4, ctx);
     kepler_exact(0.0, N_VGetArrayPointer(y));
     void *mem = ERKStepCreate(kepler_rhs, 0.0, y, ctx);
-    ARKodeButcherTable B = fpl_dop853_table();
+    ARKodeButcherTable B = NULL;
+    CHECK_OK(fpl_sun_erk_table("dop853", &B));
     ERKStepSetTable(mem, B);
     ARKodeButcherTable_Free(B);
     FPL_ARK(ERKStep, SetMaxNumSteps)(mem, 1000000);
@@ -115,9 +114,42 @@ static double kepler_error(SUNContext ctx, double h, double rtol, double tend, l
     return err;
 }
 
+/* The exported FSAL-safe tables: built-in ERKStep tables whose last node is 1 but whose last
+ * stage is not the new solution get the extra stage f(t + h, y_new); others are copied. */
+static void test_fsal_safe_tables(void)
+{
+    static const struct { const char *name; ARKODE_ERKTableID id; int extra; } t[] = {
+        {"dopri5", ARKODE_DORMAND_PRINCE_7_4_5, 0},   /* truly FSAL already */
+        {"verner65", ARKODE_VERNER_8_5_6, 1},
+        {"fehlberg87", ARKODE_FEHLBERG_13_7_8, 1},
+    };
+    for (int i = 0; i < 3; i++) {
+        ARKodeButcherTable B = NULL, ref = ARKodeButcherTable_LoadERK(t[i].id);
+        CHECK_OK(fpl_sun_erk_table(t[i].name, &B));
+        if (!B || !ref) continue;
+        const int s = ref->stages, u = B->stages;
+        CHECK(u == s + t[i].extra, "%s: %d stages from %d", t[i].name, u, s);
+        for (int j = 0; j < s; j++) {
+            CHECK(B->b[j] == ref->b[j] && B->c[j] == ref->c[j], "%s: b, c kept", t[i].name);
+            for (int k = 0; k < s; k++) CHECK(B->A[j][k] == ref->A[j][k], "%s: A kept", t[i].name);
+        }
+        for (int k = 0; k < u; k++)
+            CHECK(B->A[u - 1][k] == B->b[k], "%s: last stage is y_new", t[i].name);
+        CHECK(B->c[u - 1] == 1.0, "%s: last node 1", t[i].name);
+        ARKodeButcherTable_Free(B);
+        ARKodeButcherTable_Free(ref);
+    }
+    ARKodeButcherTable B = (ARKodeButcherTable)1;
+    CHECK(fpl_sun_erk_table("yoshida4", &B) == FPL_ERR_UNKNOWN && B == NULL, "non-ERK refused");
+    CHECK(strstr(fpl_last_error(), "yoshida4") != NULL, "message names it: %s", fpl_last_error());
+    CHECK(fpl_sun_erk_fsal_safe(NULL, &B) == FPL_ERR_ARG && B == NULL, "NULL table refused");
+    CHECK(fpl_sun_erk_table("dop853", NULL) == FPL_ERR_ARG, "NULL out refused");
+}
+
 static void test_dop853_table(void)
 {
-    ARKodeButcherTable B = fpl_dop853_table();
+    ARKodeButcherTable B = NULL;
+    CHECK_OK(fpl_sun_erk_table("dop853", &B));
     CHECK(B != NULL, "table built");
     if (!B) return;
     int q = 0, p = 0;
@@ -509,6 +541,7 @@ static void test_registry(void)
 int main(void)
 {
     test_registry();
+    test_fsal_safe_tables();
     test_dop853_table();
     test_linear_chain();
     test_model3();
