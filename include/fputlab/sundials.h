@@ -40,6 +40,17 @@ extern "C" {
 /* y' = f(t, y) (ARKRhsFn / CVRhsFn). */
 FPL_API int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
 
+/* The same system split for ARKODE's symplectic stepper SPRKStep (SUNDIALS >= 6.6):
+ *     SPRKStepCreate(fpl_sun_force, fpl_sun_velocity, t0, y, ctx);  ARKodeSetUserData(mem, lattice);
+ * fpl_sun_force (f1) fills the momentum blocks, p' = F(x) and dp' = J(x) dx for each deviation
+ * vector, and depends on the positions only; fpl_sun_velocity (f2) fills the position blocks,
+ * x' = p/m and dx' = dp/m, and depends on the momenta only; each writes zeros in the other blocks,
+ * so f1 + f2 = fpl_sun_rhs. Orbit and deviation vectors form one separable system, so SPRKStep
+ * applies the tangent map of its own scheme to the deviation vectors. Same layout and return
+ * values as fpl_sun_rhs. */
+FPL_API int fpl_sun_force(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+FPL_API int fpl_sun_velocity(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
+
 /* Jacobian (ARKLsJacFn / CVLsJacFn) for SUNMATRIX_DENSE or SUNMATRIX_BAND matrices. */
 FPL_API int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *user_data,
                         N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
