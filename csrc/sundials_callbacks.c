@@ -1,6 +1,6 @@
-/* The lattice models in SUNDIALS callback form (N_Vector / SUNMatrix). This is the only file of
- * the core that sees SUNDIALS types shared by ARKODE and CVODE; their integrator back ends live
- * in files of their own. */
+/* The lattice models in SUNDIALS callback form (N_Vector / SUNMatrix): fpl_sun_rhs, the SPRKStep
+ * split fpl_sun_force / fpl_sun_velocity, Jacobians and roots. The integrator back ends that use
+ * them live in files of their own (backend_arkode.c, backend_cvode.c, backend_sprk.c). */
 #include <sunmatrix/sunmatrix_band.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include "fputlab/sundials.h"
