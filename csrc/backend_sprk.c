@@ -6,8 +6,9 @@
  * deviation momenta), f2 = fpl_sun_velocity (positions and deviation positions), so orbit and
  * deviation vectors are one separable system and the deviation vectors follow the tangent map
  * of the scheme itself. As for our splitting schemes the state stays on the grid t0 + n dt:
- * each advance steps the solver to the last grid time <= t_target (stop time there); a sample
- * between grid points is a shortened last step, after which the solver is reset to the grid
+ * each advance takes whole steps (ARK_ONE_STEP) to the last grid time <= t_target, so the grid
+ * states do not depend on how the run is sampled or restarted (bit for bit); a sample between
+ * grid points is one step of the remaining length, after which the solver is reset to the grid
  * state. Stopping criteria use ARKODE's root-finding (g_i decreasing through zero), whose event
  * state comes from ARKODE's interpolant inside the step. */
 #include <math.h>
@@ -115,20 +116,35 @@ static const fpl_sun_ops sprk_ops = {
     .restart = sprk_restart,
 };
 
-/* Evolve the solver to t_stop (its last step shortened to land there); counts force calls. */
-static int evolve_to(fpl_integrator *h, double t_stop, double *tret)
+/* n fixed steps (ARK_ONE_STEP: never shortened or interpolated, so the state after n steps
+ * depends on the start state only, as for our splitting schemes, and a restart from a checkpoint
+ * continues bit for bit). *done gets the steps completed; counts force calls. */
+static int steps(fpl_integrator *h, long n, double t_target, long *done, double *tret)
 {
     fpl_sun_data *d = h->data;
     long nf1 = 0, nf2 = 0, nf1_after = 0;
     SPRKStepGetNumRhsEvals(d->mem, &nf1, &nf2);
     d->err.msg[0] = '\0';
     *tret = h->t;
-    int flag = FPL_ARK(SPRKStep, SetStopTime)(d->mem, t_stop);
-    if (flag == ARK_SUCCESS)
-        flag = FPL_ARK(SPRKStep, Evolve)(d->mem, t_stop, d->y, tret, ARK_NORMAL);
+    *done = 0;
+    int flag = ARK_SUCCESS;
+    while (*done < n) {
+        flag = FPL_ARK(SPRKStep, Evolve)(d->mem, t_target, d->y, tret, ARK_ONE_STEP);
+        if (flag != ARK_SUCCESS) break;
+        ++*done;
+    }
     SPRKStepGetNumRhsEvals(d->mem, &nf1_after, &nf2);
     h->n_force += nf1_after >= nf1 ? nf1_after - nf1 : nf1_after;
     return flag;
+}
+
+/* Restart at (h->t, h->y) with fixed step dt_step (a Reset makes a new fixed step take effect). */
+static int restart_with_step(fpl_integrator *h, double dt_step)
+{
+    fpl_sun_data *d = h->data;
+    int flag = FPL_ARK(SPRKStep, SetFixedStep)(d->mem, dt_step);
+    if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "SPRKStepSetFixedStep", flag);
+    return sprk_restart(h);
 }
 
 static int sprk_advance(fpl_integrator *h, double t_target, double *y_out)
@@ -143,27 +159,38 @@ static int sprk_advance(fpl_integrator *h, double t_target, double *y_out)
     /* Grid index counted from t0, never accumulated (as the splitting back end). */
     const long n_target = (long)floor(target + 1e-9);
     double tret;
+    long done;
     if (n_target > h->n_steps) {
         const double t_grid = h->t0 + (double)n_target * dt;
-        int flag = evolve_to(h, t_grid, &tret);
+        int flag = steps(h, n_target - h->n_steps, t_grid, &done, &tret);
+        const long n_reached = h->n_steps + done;
+        /* on success the time is the grid time, not ARKODE's accumulated one; on a failure
+         * ARKODE returns the last accepted state, the grid state after `done` steps */
+        if (flag == ARK_SUCCESS) tret = t_grid;
+        else if (flag < 0) tret = h->t0 + (double)n_reached * dt;
         int st = fpl_sun_classify(h, &sprk_ops, flag, tret, t_grid, y_out);
+        h->n_steps = n_reached;
         if (st != FPL_OK) return st;
-        h->n_steps = n_target;
         h->t = t_grid;
     } else {
         memcpy(y_out, h->y, bytes);
     }
-    if (t_target - h->t <= 1e-9 * dt) return FPL_OK;
-    /* Off the grid: a shortened step from the grid state to t_target, then back to the grid. */
-    int flag = evolve_to(h, t_target, &tret);
+    const double rest = t_target - h->t;
+    if (rest <= 1e-9 * dt) return FPL_OK;
+    /* Off the grid: one step of length rest from the grid state, then back to the grid. */
+    int st = restart_with_step(h, rest);
+    if (st != FPL_OK) return st;
+    int flag = steps(h, 1, t_target, &done, &tret);
     const double *yv = N_VGetArrayPointer(d->y);
-    if (flag >= 0 && flag != ARK_ROOT_RETURN && fpl_is_finite_array(yv, h->dim, NULL)) {
+    if (flag == ARK_SUCCESS && fpl_is_finite_array(yv, h->dim, NULL)) {
         memcpy(y_out, yv, bytes);
-        return sprk_restart(h);
+        return restart_with_step(h, dt);
     }
+    if (flag < 0) tret = h->t;
     const long n_grid = h->n_steps;
-    int st = fpl_sun_classify(h, &sprk_ops, flag, tret, t_target, y_out);
+    st = fpl_sun_classify(h, &sprk_ops, flag, tret, t_target, y_out);
     h->n_steps = n_grid;
+    if (flag != ARK_ROOT_RETURN) restart_with_step(h, dt);
     return st;
 }
 
