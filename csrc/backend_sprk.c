@@ -39,7 +39,7 @@ int fpl_sprk_missing(const char *name)
 #include <arkode/arkode_sprkstep.h>
 
 typedef struct sprk_method {
-    ARKODE_SPRKMethodID table;
+    const char *table;          /* ARKODE's table name (set by name: no table to own or free) */
 } sprk_method;
 
 static void sprk_release(fpl_integrator *h)
@@ -70,13 +70,8 @@ static int sprk_init(fpl_integrator *h)
     d->mem = SPRKStepCreate(fpl_sun_force, fpl_sun_velocity, h->t, d->y, d->ctx);
     if (!d->mem) return fpl_error(NULL, FPL_ERR_NOMEM, "ARKODE %s: SPRKStepCreate failed",
                                   h->method->name);
-    ARKodeSPRKTable table = ARKodeSPRKTable_Load(m->table);
-    if (!table) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (SPRK table)");
-    flag = SPRKStepSetMethod(d->mem, table); /* SPRKStep keeps the table: freed with the solver */
-    if (flag != ARK_SUCCESS) {
-        ARKodeSPRKTable_Free(table);
-        return fpl_sun_setup_failed(h, "SPRKStepSetMethod", flag);
-    }
+    if ((flag = SPRKStepSetMethodName(d->mem, m->table)) != ARK_SUCCESS)
+        return fpl_sun_setup_failed(h, "SPRKStepSetMethodName", flag);
     if ((flag = FPL_ARK(SPRKStep, SetUserData)(d->mem, h->lat)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "SPRKStepSetUserData", flag);
     if ((flag = FPL_ARK(SPRKStep, SetFixedStep)(d->mem, h->opt.dt)) != ARK_SUCCESS)
@@ -203,10 +198,10 @@ static const fpl_backend backend_sprk = {
     .release = sprk_release,
 };
 
-static const sprk_method m_mclachlan4 = {ARKODE_SPRK_MCLACHLAN_4_4};
-static const sprk_method m_yoshida6 = {ARKODE_SPRK_YOSHIDA_6_8};
-static const sprk_method m_suzuki_umeno8 = {ARKODE_SPRK_SUZUKI_UMENO_8_16};
-static const sprk_method m_sofroniou10 = {ARKODE_SPRK_SOFRONIOU_10_36};
+static const sprk_method m_mclachlan4 = {"ARKODE_SPRK_MCLACHLAN_4_4"};
+static const sprk_method m_yoshida6 = {"ARKODE_SPRK_YOSHIDA_6_8"};
+static const sprk_method m_suzuki_umeno8 = {"ARKODE_SPRK_SUZUKI_UMENO_8_16"};
+static const sprk_method m_sofroniou10 = {"ARKODE_SPRK_SOFRONIOU_10_36"};
 
 const fpl_method fpl_methods_sprk[] = {
     {"sprk-mclachlan4", 4, &backend_sprk, &m_mclachlan4},
