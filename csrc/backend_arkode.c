@@ -1,7 +1,9 @@
-/* Adaptive explicit Runge-Kutta back end: ARKODE ERKStep (SUNDIALS 6.x) with built-in tables
- * (Dormand-Prince 5(4), Verner 6(5), Fehlberg 8(7)) and Hairer's DOP853 as a custom table
- * (tables/dop853.c). Every ARKODE call of the library lives in this file. Tables are passed
- * through fsal_safe(), which works around an ERKStep 6.4 FSAL bug (see there).
+/* Adaptive explicit Runge-Kutta back end: ARKODE ERKStep (SUNDIALS 6.4 or 7.x; the differences
+ * are in sundials_compat.h) with built-in tables (Dormand-Prince 5(4), Verner 6(5), Fehlberg
+ * 8(7)) and Hairer's DOP853 as a custom table (integrators/dop853.c). Every ERKStep call of the
+ * library lives in this file; the part shared with CVODE (data, failures, classification of a
+ * return) is in sundials_common.c. Tables are passed through fpl_sun_erk_fsal_safe(), which
+ * works around an ERKStep 6.4 FSAL bug (see there; exported with fpl_sun_erk_table).
  *
  * The solver integrates the orbit and its variational equations together (fpl_sun_rhs reads
  * n_dev from the vector length), so the step-size control also covers the deviation vectors.
@@ -13,43 +15,20 @@
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_serial.h>
 #include "fputlab/sundials.h"
-#include "integrator_impl.h"
+#include "sundials_common.h"
 
-ARKodeButcherTable fpl_dop853_table(void); /* tables/dop853.c */
+ARKodeButcherTable fpl_dop853_table(void); /* integrators/dop853.c */
 
 typedef struct ark_method {
     int custom_dop853;          /* 1: our DOP853 table; 0: the built-in table below */
     ARKODE_ERKTableID table;
 } ark_method;
 
-typedef struct ark_data {
-    SUNContext ctx;
-    N_Vector y;                 /* solver output; h->y keeps the last good state */
-    void *mem;
-    long base_steps, base_rhs;  /* counters accumulated before the last ReInit */
-    char msg[320];              /* last SUNDIALS error message */
-} ark_data;
-
-/* SUNDIALS 6.4 error handler: keep the message, never print. Warnings (e.g. "t + h = t") are
- * not errors and do not overwrite the message of a failure. */
-static void ark_err_handler(int error_code, const char *module, const char *function, char *msg,
-                            void *user_data)
-{
-    (void)module;
-    ark_data *d = user_data;
-    if (error_code == ARK_WARNING) return;
-    snprintf(d->msg, sizeof d->msg, "%s (%s)", msg ? msg : "", function ? function : "?");
-}
-
 static void ark_release(fpl_integrator *h)
 {
-    ark_data *d = h->data;
-    if (!d) return;
-    if (d->mem) ERKStepFree(&d->mem);
-    if (d->y) N_VDestroy(d->y);
-    if (d->ctx) SUNContext_Free(&d->ctx);
-    free(d);
-    h->data = NULL;
+    fpl_sun_data *d = h->data;
+    if (d && d->mem) FPL_ARK(ERKStep, Free)(&d->mem);
+    fpl_sun_data_free(h);
 }
 
 /* SUNDIALS 6.4's ERKStep takes a table with last node c_s = 1 for first-same-as-last and
@@ -58,83 +37,93 @@ static void ark_release(fpl_integrator *h)
  * DOP853 (measured: DOP853 at fixed steps converges with order ~5.7 instead of 8). Such a
  * table gets one more stage, c = 1, a_(s+1)j = b_j, weight 0: f(t + h, y_new), which makes it
  * truly FSAL. It costs no extra evaluation: without the bug a non-FSAL table needs
- * f(t + h, y_new) for the next step anyway. Takes ownership of B; NULL if out of memory. */
-static ARKodeButcherTable fsal_safe(ARKodeButcherTable B)
+ * f(t + h, y_new) for the next step anyway. Exported for embedders (fputlab/sundials.h). */
+int fpl_sun_erk_fsal_safe(ARKodeButcherTable B, ARKodeButcherTable *safe)
 {
-    if (!B) return NULL;
+    if (!safe) return fpl_error(NULL, FPL_ERR_ARG, "safe: NULL pointer");
+    *safe = NULL;
+    if (!B || B->stages < 1 || !B->A || !B->b || !B->c)
+        return fpl_error(NULL, FPL_ERR_ARG, "table: NULL or incomplete Butcher table");
     const int s = B->stages;
     int fsal = 1;
     for (int j = 0; j < s; j++)
         if (B->A[s - 1][j] != B->b[j]) fsal = 0;
-    if (B->c[s - 1] != 1.0 || fsal) return B;
+    if (B->c[s - 1] != 1.0 || fsal) {
+        *safe = ARKodeButcherTable_Copy(B);
+        return *safe ? FPL_OK : fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    }
     const int t = s + 1;
     double *buf = calloc((size_t)(t * t + 3 * t), sizeof(double));
-    ARKodeButcherTable E = NULL;
-    if (buf) {
-        double *A = buf, *c = A + t * t, *b = c + t, *d = b + t;
-        for (int i = 0; i < s; i++) {
-            c[i] = B->c[i];
-            b[i] = B->b[i];
-            d[i] = B->d ? B->d[i] : 0.0;
-            for (int j = 0; j < s; j++) A[i * t + j] = B->A[i][j];
-            A[s * t + i] = B->b[i];
-        }
-        c[s] = 1.0;
-        E = ARKodeButcherTable_Create(t, B->q, B->p, c, A, b, B->d ? d : NULL);
-        free(buf);
+    if (!buf) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    double *A = buf, *c = A + t * t, *b = c + t, *d = b + t;
+    for (int i = 0; i < s; i++) {
+        c[i] = B->c[i];
+        b[i] = B->b[i];
+        d[i] = B->d ? B->d[i] : 0.0;
+        for (int j = 0; j < s; j++) A[i * t + j] = B->A[i][j];
+        A[s * t + i] = B->b[i];
     }
-    ARKodeButcherTable_Free(B);
-    return E;
+    c[s] = 1.0;
+    *safe = ARKodeButcherTable_Create(t, B->q, B->p, c, A, b, B->d ? d : NULL);
+    free(buf);
+    return *safe ? FPL_OK : fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
 }
 
-static int setup_failed(fpl_integrator *h, const char *what, int flag)
+static const fpl_method *find_erk_method(const char *name);
+
+int fpl_sun_erk_table(const char *method, ARKodeButcherTable *table)
 {
-    const ark_data *d = h->data;
-    return fpl_error(NULL, FPL_ERR_BACKEND, "ARKODE %s: %s failed (flag %d)%s%s",
-                     h->method->name, what, flag, d && d->msg[0] ? ": " : "", d ? d->msg : "");
+    if (!table) return fpl_error(NULL, FPL_ERR_ARG, "table: NULL pointer");
+    *table = NULL;
+    if (!method) return fpl_error(NULL, FPL_ERR_ARG, "method: NULL name");
+    const fpl_method *fm = find_erk_method(method);
+    if (!fm)
+        return fpl_error(NULL, FPL_ERR_UNKNOWN,
+                         "method '%s' has no ERKStep table (known: dopri5, verner65, fehlberg87, "
+                         "dop853)", method);
+    const ark_method *m = fm->data;
+    ARKodeButcherTable B =
+        m->custom_dop853 ? fpl_dop853_table() : ARKodeButcherTable_LoadERK(m->table);
+    if (!B) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    int st = fpl_sun_erk_fsal_safe(B, table);
+    ARKodeButcherTable_Free(B);
+    return st;
 }
 
 static int ark_init(fpl_integrator *h)
 {
-    const ark_method *m = h->method->data;
-    ark_data *d = calloc(1, sizeof *d);
-    if (!d) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (ARKODE back end)");
-    h->data = d; /* from here on, fpl_integrator_free calls ark_release on failure */
-    if (SUNContext_Create(NULL, &d->ctx) != 0 || !d->ctx)
-        return fpl_error(NULL, FPL_ERR_BACKEND, "ARKODE %s: SUNContext_Create failed",
-                         h->method->name);
-    d->y = N_VNew_Serial((sunindextype)h->dim, d->ctx);
-    if (!d->y) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (ARKODE state vector)");
-    memcpy(N_VGetArrayPointer(d->y), h->y, sizeof(double) * (size_t)h->dim);
+    int flag = fpl_sun_data_create(h, "ARKODE");
+    if (flag != FPL_OK) return flag;
+    fpl_sun_data *d = h->data;
     d->mem = ERKStepCreate(fpl_sun_rhs, h->t, d->y, d->ctx);
     if (!d->mem) return fpl_error(NULL, FPL_ERR_NOMEM, "ARKODE %s: ERKStepCreate failed",
                                   h->method->name);
-    int flag = ERKStepSetErrHandlerFn(d->mem, ark_err_handler, d);
-    if (flag != ARK_SUCCESS) return setup_failed(h, "ERKStepSetErrHandlerFn", flag);
-    if ((flag = ERKStepSetUserData(d->mem, h->lat)) != ARK_SUCCESS)
-        return setup_failed(h, "ERKStepSetUserData", flag);
-    ARKodeButcherTable B =
-        fsal_safe(m->custom_dop853 ? fpl_dop853_table() : ARKodeButcherTable_LoadERK(m->table));
-    if (!B) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (Butcher table)");
+    flag = FPL_SUN_SET_ERR_HANDLER(ERKStepSetErrHandlerFn, d->mem, &d->err);
+    if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "ERKStepSetErrHandlerFn", flag);
+    if ((flag = FPL_ARK(ERKStep, SetUserData)(d->mem, h->lat)) != ARK_SUCCESS)
+        return fpl_sun_setup_failed(h, "ERKStepSetUserData", flag);
+    ARKodeButcherTable B = NULL;
+    if ((flag = fpl_sun_erk_table(h->method->name, &B)) != FPL_OK) return flag;
     flag = ERKStepSetTable(d->mem, B); /* ERKStep keeps its own copy */
     ARKodeButcherTable_Free(B);
-    if (flag != ARK_SUCCESS) return setup_failed(h, "ERKStepSetTable", flag);
-    if ((flag = ERKStepSStolerances(d->mem, h->opt.rtol, h->opt.atol)) != ARK_SUCCESS)
-        return setup_failed(h, "ERKStepSStolerances", flag);
-    if ((flag = ERKStepSetMaxNumSteps(d->mem, h->opt.max_steps)) != ARK_SUCCESS)
-        return setup_failed(h, "ERKStepSetMaxNumSteps", flag);
-    if (h->opt.dt > 0.0 && (flag = ERKStepSetInitStep(d->mem, h->opt.dt)) != ARK_SUCCESS)
-        return setup_failed(h, "ERKStepSetInitStep", flag);
+    if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "ERKStepSetTable", flag);
+    if ((flag = FPL_ARK(ERKStep, SStolerances)(d->mem, h->opt.rtol, h->opt.atol)) != ARK_SUCCESS)
+        return fpl_sun_setup_failed(h, "ERKStepSStolerances", flag);
+    if ((flag = FPL_ARK(ERKStep, SetMaxNumSteps)(d->mem, h->opt.max_steps)) != ARK_SUCCESS)
+        return fpl_sun_setup_failed(h, "ERKStepSetMaxNumSteps", flag);
+    if (h->opt.dt > 0.0 &&
+        (flag = FPL_ARK(ERKStep, SetInitStep)(d->mem, h->opt.dt)) != ARK_SUCCESS)
+        return fpl_sun_setup_failed(h, "ERKStepSetInitStep", flag);
     /* Stopping criteria on the lattice: ARKODE's root-finding, g_i decreasing through zero. */
     const int n_events = fpl_lattice_event_count(h->lat);
     if (n_events > 0) {
         int dirs[8];
         for (int i = 0; i < n_events; i++) dirs[i] = -1;
-        if ((flag = ERKStepRootInit(d->mem, n_events, fpl_sun_roots)) != ARK_SUCCESS)
-            return setup_failed(h, "ERKStepRootInit", flag);
-        if ((flag = ERKStepSetRootDirection(d->mem, dirs)) != ARK_SUCCESS)
-            return setup_failed(h, "ERKStepSetRootDirection", flag);
-        ERKStepSetNoInactiveRootWarn(d->mem);
+        if ((flag = FPL_ARK(ERKStep, RootInit)(d->mem, n_events, fpl_sun_roots)) != ARK_SUCCESS)
+            return fpl_sun_setup_failed(h, "ERKStepRootInit", flag);
+        if ((flag = FPL_ARK(ERKStep, SetRootDirection)(d->mem, dirs)) != ARK_SUCCESS)
+            return fpl_sun_setup_failed(h, "ERKStepSetRootDirection", flag);
+        FPL_ARK(ERKStep, SetNoInactiveRootWarn)(d->mem);
     }
     return FPL_OK;
 }
@@ -142,15 +131,15 @@ static int ark_init(fpl_integrator *h)
 /* Restart the solver from (h->t, h->y), keeping the counters and the last step size. */
 static int ark_restart(fpl_integrator *h)
 {
-    ark_data *d = h->data;
+    fpl_sun_data *d = h->data;
     double hlast = 0.0;
-    ERKStepGetLastStep(d->mem, &hlast);
+    FPL_ARK(ERKStep, GetLastStep)(d->mem, &hlast);
     d->base_steps = h->n_steps;
     d->base_rhs = h->n_force;
     memcpy(N_VGetArrayPointer(d->y), h->y, sizeof(double) * (size_t)h->dim);
     int flag = ERKStepReInit(d->mem, fpl_sun_rhs, h->t, d->y);
-    if (flag != ARK_SUCCESS) return setup_failed(h, "ERKStepReInit", flag);
-    if (hlast > 0.0) ERKStepSetInitStep(d->mem, hlast);
+    if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "ERKStepReInit", flag);
+    if (hlast > 0.0) FPL_ARK(ERKStep, SetInitStep)(d->mem, hlast);
     return FPL_OK;
 }
 
@@ -159,69 +148,33 @@ static int ark_reset(fpl_integrator *h)
     return ark_restart(h);
 }
 
+static const fpl_sun_ops ark_ops = {
+    .root_return = ARK_ROOT_RETURN,
+    .rhs_errors = {ARK_UNREC_RHSFUNC_ERR, ARK_REPTD_RHSFUNC_ERR, ARK_FIRST_RHSFUNC_ERR},
+    .root_info = FPL_ARK(ERKStep, GetRootInfo),
+    .flag_name = FPL_ARK(ERKStep, GetReturnFlagName),
+    .restart = ark_restart,
+};
+
 static int ark_advance(fpl_integrator *h, double t_target, double *y_out)
 {
-    ark_data *d = h->data;
+    fpl_sun_data *d = h->data;
     const size_t bytes = sizeof(double) * (size_t)h->dim;
     if (t_target == h->t) {
         memcpy(y_out, h->y, bytes);
         return FPL_OK;
     }
-    d->msg[0] = '\0';
-    int flag = ERKStepSetStopTime(d->mem, t_target);
+    d->err.msg[0] = '\0';
+    int flag = FPL_ARK(ERKStep, SetStopTime)(d->mem, t_target);
     double tret = h->t;
-    if (flag == ARK_SUCCESS) flag = ERKStepEvolve(d->mem, t_target, d->y, &tret, ARK_NORMAL);
+    if (flag == ARK_SUCCESS)
+        flag = FPL_ARK(ERKStep, Evolve)(d->mem, t_target, d->y, &tret, ARK_NORMAL);
     long nst = 0, nfe = 0;
-    ERKStepGetNumSteps(d->mem, &nst);
+    FPL_ARK(ERKStep, GetNumSteps)(d->mem, &nst);
     ERKStepGetNumRhsEvals(d->mem, &nfe);
     h->n_steps = d->base_steps + nst;
     h->n_force = d->base_rhs + nfe;
-    const double *yv = N_VGetArrayPointer(d->y);
-    const int finite = fpl_is_finite_array(yv, h->dim, NULL);
-    if (flag == ARK_ROOT_RETURN && finite) {
-        int found[8] = {0};
-        ERKStepGetRootInfo(d->mem, found);
-        h->event_index = 0;
-        for (int i = fpl_lattice_event_count(h->lat) - 1; i >= 0; i--)
-            if (found[i]) h->event_index = i;
-        memcpy(h->y, yv, bytes);
-        h->t = tret;
-        memcpy(y_out, yv, bytes);
-        return FPL_EVENT;
-    }
-    if (flag >= 0 && finite) {
-        memcpy(h->y, yv, bytes);
-        h->t = t_target;
-        memcpy(y_out, yv, bytes);
-        return FPL_OK;
-    }
-
-    /* Failure. On error ARKODE returns its last accepted state (at tret): keep it if finite,
-     * so the handle holds the latest good state; then restart the solver from there. */
-    const double t_start = h->t;
-    if (flag < 0 && finite && tret > h->t && tret < t_target) {
-        memcpy(h->y, yv, bytes);
-        h->t = tret;
-    }
-    char *name = ERKStepGetReturnFlagName(flag);
-    char flag_name[32];
-    snprintf(flag_name, sizeof flag_name, "%s", name ? name : "?");
-    free(name);
-    char sun_msg[sizeof d->msg];
-    memcpy(sun_msg, d->msg, sizeof sun_msg);
-    ark_restart(h);
-    /* fpl_sun_rhs returns 1 (recoverable) only for a non-finite state, which ERKStep reports
-     * as an unrecoverable right-hand-side error. */
-    if (!finite || flag == ARK_UNREC_RHSFUNC_ERR || flag == ARK_REPTD_RHSFUNC_ERR ||
-        flag == ARK_FIRST_RHSFUNC_ERR)
-        return fpl_error(NULL, FPL_ERR_NONFINITE,
-                         "state became non-finite between t = %.10g and t = %.10g (ARKODE %s, "
-                         "started at t = %.10g: flag %d (%s)%s%s)",
-                         h->t, t_target, h->method->name, t_start, flag, flag_name,
-                         sun_msg[0] ? ": " : "", sun_msg);
-    return fpl_error(NULL, FPL_ERR_BACKEND, "ARKODE %s failed at t = %.10g: flag %d (%s): %s",
-                     h->method->name, tret, flag, flag_name,
-                     sun_msg[0] ? sun_msg : "(no message)");
+    return fpl_sun_classify(h, &ark_ops, flag, tret, t_target, y_out);
 }
 
 static const fpl_backend backend_arkode = {
@@ -245,3 +198,10 @@ const fpl_method fpl_methods_arkode[] = {
     {"dop853", 8, &backend_arkode, &m_dop853},
     {NULL, 0, NULL, NULL},
 };
+
+static const fpl_method *find_erk_method(const char *name)
+{
+    for (const fpl_method *m = fpl_methods_arkode; m->name; m++)
+        if (strcmp(m->name, name) == 0) return m;
+    return NULL;
+}

@@ -25,7 +25,7 @@ static int n_splitting_methods(void)
 static const fpl_method *const *other_tables(void)
 {
     static const fpl_method *const tables[] = {fpl_methods_arkode, fpl_methods_cvode,
-                                               fpl_methods_gsl, NULL};
+                                               fpl_methods_gsl, fpl_methods_sprk, NULL};
     return tables;
 }
 
@@ -65,6 +65,8 @@ static const fpl_method *find_method(const char *name)
 
 static int unknown_method(const char *name)
 {
+    int missing = fpl_sprk_missing(name);
+    if (missing) return missing;
     char known[512] = "";
     for (int i = 0; method_at(i); i++) {
         if (i) strncat(known, ", ", sizeof known - strlen(known) - 1);
@@ -92,6 +94,7 @@ void fpl_integrator_options_init(fpl_integrator_options *opt)
     opt->rtol = 1e-10;
     opt->atol = 1e-12;
     opt->max_steps = 0;
+    opt->compensated_sums = 0;
 }
 
 /* Record an error on the integrator handle (the thread-local message is set by fpl_error). */

@@ -50,5 +50,9 @@ extern const fpl_backend fpl_backend_splitting;
 extern const fpl_method fpl_methods_arkode[];
 extern const fpl_method fpl_methods_cvode[];
 extern const fpl_method fpl_methods_gsl[];
+extern const fpl_method fpl_methods_sprk[];  /* empty without SPRKStep (SUNDIALS < 6.6) */
+
+/* A clear FPL_ERR_UNKNOWN if name is an SPRKStep method this build lacks, else 0. */
+int fpl_sprk_missing(const char *name);
 
 #endif

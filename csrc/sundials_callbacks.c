@@ -1,10 +1,11 @@
-/* The lattice models in SUNDIALS callback form (N_Vector / SUNMatrix). This is the only file of
- * the core that sees SUNDIALS types shared by ARKODE and CVODE; their integrator back ends live
- * in files of their own. */
+/* The lattice models in SUNDIALS callback form (N_Vector / SUNMatrix): fpl_sun_rhs, the SPRKStep
+ * split fpl_sun_force / fpl_sun_velocity, Jacobians and roots. The integrator back ends that use
+ * them live in files of their own (backend_arkode.c, backend_cvode.c, backend_sprk.c). */
 #include <sunmatrix/sunmatrix_band.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include "fputlab/sundials.h"
 #include <float.h>
+#include <string.h>
 #include "internal.h"
 
 /* n_dev from the vector length 2N(1+n_dev), or -1 (message on the handle) if it does not fit. */
@@ -32,6 +33,46 @@ int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
         return 1; /* recoverable: let the integrator retry with a smaller step */
     }
     fpl_kernel_rhs(lat, yd, n_dev, N_VGetArrayPointer(ydot));
+    return 0;
+}
+
+/* SPRKStep form: the momenta part p' = F(x), dp' = J(x) dx (f1), zeros in the position blocks. */
+int fpl_sun_force(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    fpl_lattice *lat = user_data;
+    int n_dev = n_dev_of(lat, y);
+    if (n_dev < 0) return -1;
+    const double *yd = N_VGetArrayPointer(y);
+    long bad;
+    if (!fpl_is_finite_array(yd, N_VGetLength(y), &bad)) {
+        fpl_error(lat, FPL_ERR_NONFINITE, "force called with non-finite y[%ld] at t = %g", bad, t);
+        return 1;
+    }
+    const size_t n = (size_t)lat->n;
+    double *f = N_VGetArrayPointer(ydot);
+    for (int m = 0; m <= n_dev; m++) memset(f + 2 * n * (size_t)m, 0, sizeof(double) * n);
+    fpl_kernel_force(lat, yd, f + n);
+    for (int m = 1; m <= n_dev; m++)
+        fpl_kernel_tangent(lat, yd, 1, yd + 2 * n * (size_t)m, f + 2 * n * (size_t)m + n);
+    return 0;
+}
+
+/* SPRKStep form: the positions part x' = p/m, dx' = dp/m (f2), zeros in the momentum blocks. */
+int fpl_sun_velocity(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
+{
+    (void)t;
+    fpl_lattice *lat = user_data;
+    int n_dev = n_dev_of(lat, y);
+    if (n_dev < 0) return -1;
+    const size_t n = (size_t)lat->n;
+    const double *yd = N_VGetArrayPointer(y);
+    double *f = N_VGetArrayPointer(ydot);
+    for (int m = 0; m <= n_dev; m++) {
+        const double *p = yd + 2 * n * (size_t)m + n;
+        double *xd = f + 2 * n * (size_t)m;
+        for (size_t i = 0; i < n; i++) xd[i] = lat->minv[i] * p[i];
+        memset(xd + n, 0, sizeof(double) * n);
+    }
     return 0;
 }
 

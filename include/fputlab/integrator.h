@@ -30,9 +30,11 @@ typedef struct fpl_integrator_options {
     double rtol;      /* adaptive methods: relative tolerance (> 0) */
     double atol;      /* adaptive methods: absolute tolerance (> 0) */
     long max_steps;   /* adaptive methods: internal steps allowed per advance (0 = 10^8) */
+    int compensated_sums; /* ARKODE SPRKStep methods ("sprk-*"): compensated summation of the
+                             increments (non-zero), which removes most round-off growth */
 } fpl_integrator_options;
 
-/* dt = 0.01, rtol = 1e-10, atol = 1e-12, max_steps = 0. */
+/* dt = 0.01, rtol = 1e-10, atol = 1e-12, max_steps = 0, compensated_sums = 0. */
 FPL_API void fpl_integrator_options_init(fpl_integrator_options *opt);
 
 /* Methods by name: fpl_method_count / fpl_method_name list them; fpl_method_info tells order

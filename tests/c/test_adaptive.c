@@ -3,13 +3,15 @@
  * paper's model 3 (every method against Yoshida 4; every splitting scheme against DOP853 and
  * CVODE, with its observed order), deviation vectors against finite differences and the
  * symplectic tangent map, and failures (bad tolerances, too much work, blow-up). */
+#define _POSIX_C_SOURCE 200809L /* dup, dup2, fileno: test_silent */
 #include <string.h>
+#include <unistd.h>
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_serial.h>
 #include "check.h"
 #include "fputlab.h"
-/* The table is internal to the library (hidden symbol): compile our own copy of it. */
-#include "../../csrc/tables/dop853.c"
+#include "fputlab/sundials.h"
+#include "../../csrc/sundials_compat.h" /* FPL_ARK: ARKode* on >= 7.1 */
 
 static const char *const adaptive[] = {"dop853", "dopri5", "verner65", "fehlberg87",
                                        "cvode-adams", "cvode-bdf", "gsl-rk8pd"};
@@ -93,27 +95,61 @@ static double kepler_error(SUNContext ctx, double h, double rtol, double tend, l
     N_Vector y = N_VNew_Serial(4, ctx);
     kepler_exact(0.0, N_VGetArrayPointer(y));
     void *mem = ERKStepCreate(kepler_rhs, 0.0, y, ctx);
-    ARKodeButcherTable B = fpl_dop853_table();
+    ARKodeButcherTable B = NULL;
+    CHECK_OK(fpl_sun_erk_table("dop853", &B));
     ERKStepSetTable(mem, B);
     ARKodeButcherTable_Free(B);
-    ERKStepSetMaxNumSteps(mem, 1000000);
-    if (h > 0.0) ERKStepSetFixedStep(mem, h);
-    else ERKStepSStolerances(mem, rtol, rtol * 1e-2);
-    ERKStepSetStopTime(mem, tend);
+    FPL_ARK(ERKStep, SetMaxNumSteps)(mem, 1000000);
+    if (h > 0.0) FPL_ARK(ERKStep, SetFixedStep)(mem, h);
+    else FPL_ARK(ERKStep, SStolerances)(mem, rtol, rtol * 1e-2);
+    FPL_ARK(ERKStep, SetStopTime)(mem, tend);
     double t = 0.0, ex[4];
-    int flag = ERKStepEvolve(mem, tend, y, &t, ARK_NORMAL);
+    int flag = FPL_ARK(ERKStep, Evolve)(mem, tend, y, &t, ARK_NORMAL);
     CHECK(flag >= 0, "ERKStepEvolve (Kepler, h = %g, rtol = %g): flag %d", h, rtol, flag);
     kepler_exact(tend, ex);
     double err = max_abs_diff(N_VGetArrayPointer(y), ex, 4);
-    ERKStepGetNumSteps(mem, nsteps);
-    ERKStepFree(&mem);
+    FPL_ARK(ERKStep, GetNumSteps)(mem, nsteps);
+    FPL_ARK(ERKStep, Free)(&mem);
     N_VDestroy(y);
     return err;
 }
 
+/* The exported FSAL-safe tables: built-in ERKStep tables whose last node is 1 but whose last
+ * stage is not the new solution get the extra stage f(t + h, y_new); others are copied. */
+static void test_fsal_safe_tables(void)
+{
+    static const struct { const char *name; ARKODE_ERKTableID id; int extra; } t[] = {
+        {"dopri5", ARKODE_DORMAND_PRINCE_7_4_5, 0},   /* truly FSAL already */
+        {"verner65", ARKODE_VERNER_8_5_6, 1},
+        {"fehlberg87", ARKODE_FEHLBERG_13_7_8, 1},
+    };
+    for (int i = 0; i < 3; i++) {
+        ARKodeButcherTable B = NULL, ref = ARKodeButcherTable_LoadERK(t[i].id);
+        CHECK_OK(fpl_sun_erk_table(t[i].name, &B));
+        if (!B || !ref) continue;
+        const int s = ref->stages, u = B->stages;
+        CHECK(u == s + t[i].extra, "%s: %d stages from %d", t[i].name, u, s);
+        for (int j = 0; j < s; j++) {
+            CHECK(B->b[j] == ref->b[j] && B->c[j] == ref->c[j], "%s: b, c kept", t[i].name);
+            for (int k = 0; k < s; k++) CHECK(B->A[j][k] == ref->A[j][k], "%s: A kept", t[i].name);
+        }
+        for (int k = 0; k < u; k++)
+            CHECK(B->A[u - 1][k] == B->b[k], "%s: last stage is y_new", t[i].name);
+        CHECK(B->c[u - 1] == 1.0, "%s: last node 1", t[i].name);
+        ARKodeButcherTable_Free(B);
+        ARKodeButcherTable_Free(ref);
+    }
+    ARKodeButcherTable B = (ARKodeButcherTable)1;
+    CHECK(fpl_sun_erk_table("yoshida4", &B) == FPL_ERR_UNKNOWN && B == NULL, "non-ERK refused");
+    CHECK(strstr(fpl_last_error(), "yoshida4") != NULL, "message names it: %s", fpl_last_error());
+    CHECK(fpl_sun_erk_fsal_safe(NULL, &B) == FPL_ERR_ARG && B == NULL, "NULL table refused");
+    CHECK(fpl_sun_erk_table("dop853", NULL) == FPL_ERR_ARG, "NULL out refused");
+}
+
 static void test_dop853_table(void)
 {
-    ARKodeButcherTable B = fpl_dop853_table();
+    ARKodeButcherTable B = NULL;
+    CHECK_OK(fpl_sun_erk_table("dop853", &B));
     CHECK(B != NULL, "table built");
     if (!B) return;
     int q = 0, p = 0;
@@ -123,7 +159,7 @@ static void test_dop853_table(void)
     CHECK(ret == 0 || ret == 1, "CheckOrder returned %d (q %d, p %d)", ret, q, p);
     CHECK(q >= 6, "method order %d (all conditions up to order 6 hold)", q);
     CHECK(p == 5, "embedding order %d, expected exactly 5", p);
-    /* 12 stages of dop853.f + the FSAL stage f(t + h, y_new) (see csrc/tables/dop853.c) */
+    /* 12 stages of dop853.f + the FSAL stage f(t + h, y_new) (see csrc/integrators/dop853.c) */
     CHECK(B->stages == 13 && B->q == 8 && B->p == 5, "table metadata");
     for (int j = 0; j < 13; j++)
         CHECK(B->A[12][j] == B->b[j] && B->c[12] == 1.0 && B->b[12] == 0.0, "FSAL stage %d", j);
@@ -137,7 +173,7 @@ static void test_dop853_table(void)
      * the FSAL stage, SUNDIALS 6.4 reuses f of the 12th stage as the next first stage and the
      * observed order is ~5.7. */
     SUNContext ctx;
-    SUNContext_Create(NULL, &ctx);
+    SUNContext_Create(FPL_SUN_COMM_NULL, &ctx);
     const double T = 2.0 * M_PI;
     long ns;
     double e1 = kepler_error(ctx, T / 150, 0.0, T, &ns);
@@ -441,6 +477,58 @@ static void test_failures(void)
     fpl_lattice_free(&lat);
 }
 
+/* The library never prints: SUNDIALS failures and warnings (too much work, a blow-up with its
+ * "t + h = t" warnings) leave nothing on stdout/stderr, with SUNDIALS 6.4 (per-solver handler)
+ * and 7.x (context handler stack and logger, which print by default). */
+static void test_silent(void)
+{
+    fflush(stdout);
+    fflush(stderr);
+    FILE *cap = tmpfile();
+    CHECK(cap != NULL, "tmpfile");
+    if (!cap) return;
+    int out = dup(1), err = dup(2);
+    dup2(fileno(cap), 1);
+    dup2(fileno(cap), 2);
+    fpl_lattice *lat = NULL;
+    double y0[32], y[32], z0[8], z[8];
+    int statuses = 0;
+    model3_lattice(&lat, y0);
+    for (int m = 0; m < N_ADAPTIVE; m++) {
+        fpl_integrator_options opt;
+        fpl_integrator_options_init(&opt);
+        opt.max_steps = 10;
+        fpl_integrator *h = NULL;
+        if (fpl_integrator_create(lat, adaptive[m], 0, &opt, 0.0, y0, &h) == FPL_OK)
+            statuses += fpl_integrator_advance(h, 1e4, y) < 0;
+        fpl_integrator_free(&h);
+    }
+    fpl_lattice_free(&lat);
+    fpl_lattice_create(4, 0.25, 0.0, FPL_MODEL_HOMOGENEOUS, NULL, &lat);
+    fpl_modes_initial_state(lat, 1, 30.0, z0);
+    for (int m = 0; m < N_ADAPTIVE; m++) {
+        fpl_integrator *h = NULL;
+        if (fpl_integrator_create(lat, adaptive[m], 0, NULL, 0.0, z0, &h) == FPL_OK)
+            statuses += fpl_integrator_advance(h, 100.0, z) < 0;
+        fpl_integrator_free(&h);
+    }
+    fpl_lattice_free(&lat);
+    fflush(stdout);
+    fflush(stderr);
+    dup2(out, 1);
+    dup2(err, 2);
+    close(out);
+    close(err);
+    fseek(cap, 0, SEEK_END);
+    long printed = ftell(cap);
+    char head[200] = "";
+    rewind(cap);
+    if (printed > 0 && !fgets(head, sizeof head, cap)) head[0] = '\0';
+    fclose(cap);
+    CHECK(statuses == 2 * N_ADAPTIVE, "every run failed as intended (%d)", statuses);
+    CHECK(printed == 0, "the library printed %ld bytes: %s", printed, head);
+}
+
 static void test_registry(void)
 {
     for (int m = 0; m < N_ADAPTIVE; m++) {
@@ -453,10 +541,12 @@ static void test_registry(void)
 int main(void)
 {
     test_registry();
+    test_fsal_safe_tables();
     test_dop853_table();
     test_linear_chain();
     test_model3();
     test_deviations();
     test_failures();
+    test_silent();
     return check_report("adaptive");
 }

@@ -9,6 +9,7 @@
 #include "check.h"
 #include "fputlab.h"
 #include "fputlab/sundials.h"
+#include "fputlab/version.h"
 
 static void test_callbacks(SUNContext ctx)
 {
@@ -107,10 +108,26 @@ static void test_cvode(SUNContext ctx, int band)
     fpl_lattice_free(&lat);
 }
 
+/* The compile-time version macros and the run-time strings agree with each other and with
+ * the SUNDIALS headers this test was compiled against. */
+static void test_versions(void)
+{
+    char v[64];
+    snprintf(v, sizeof v, "%d.%d.%d", FPL_VERSION_MAJOR, FPL_VERSION_MINOR, FPL_VERSION_PATCH);
+    CHECK(strcmp(v, fpl_version()) == 0 && strcmp(FPL_VERSION_STRING, fpl_version()) == 0,
+          "FPL_VERSION_* %s vs fpl_version() %s", v, fpl_version());
+    CHECK(FPL_VERSION_NUMBER == FPL_VERSION_ENCODE(FPL_VERSION_MAJOR, FPL_VERSION_MINOR,
+                                                   FPL_VERSION_PATCH), "FPL_VERSION_NUMBER");
+    CHECK(strcmp(fpl_sundials_version(), SUNDIALS_VERSION) == 0, "SUNDIALS %s vs headers %s",
+          fpl_sundials_version(), SUNDIALS_VERSION);
+    printf("fputlab %s (headers %s), SUNDIALS %s\n", fpl_version(), v, fpl_sundials_version());
+}
+
 int main(void)
 {
+    test_versions();
     SUNContext ctx;
-    SUNContext_Create(NULL, &ctx);
+    SUNContext_Create(FPL_SUN_COMM_NULL, &ctx);
     test_callbacks(ctx);
     test_cvode(ctx, 0);
     test_cvode(ctx, 1);

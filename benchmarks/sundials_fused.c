@@ -1,0 +1,124 @@
+/* Issue 15, part 4: cost of the SUNDIALS path per particle and right-hand-side evaluation,
+ * ERKStep DOP853 (fputlab's table) with and without fused N_Vector operations
+ * (N_VEnableFusedOps_Serial), next to fputlab's dop853 (same ERKStep, no fusion) and gsl-rk8pd.
+ * The benchmarks/README.md problem: homogeneous FPUT-alpha chain, mode 1, 2 deviation vectors,
+ * rtol = atol = 1e-10, to T = 20. Prints ns/(p*f) = wall / (rhs evaluations x N), best of 3.
+ * Built and run by benchmarks/sundials_fused.sh against each SUNDIALS build. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#include <arkode/arkode_erkstep.h>
+#include <fputlab.h>
+#include <fputlab/sundials.h>
+
+#if SUNDIALS_VERSION_MAJOR > 7 || (SUNDIALS_VERSION_MAJOR == 7 && SUNDIALS_VERSION_MINOR >= 1)
+#define ERK(name) ARKode##name
+#else
+#define ERK(name) ERKStep##name
+#endif
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static void initial(fpl_lattice *lat, int n, double *y)
+{
+    fpl_modes_initial_state(lat, 1, 1.0, y);
+    srand(1);
+    for (int i = 2 * n; i < 6 * n; i++) y[i] = rand() / (double)RAND_MAX - 0.5;
+}
+
+/* ERKStep with our DOP853 table on fpl_sun_rhs; returns ns/(p*f). */
+static double erk(fpl_lattice *lat, int n, int fused, double T, double *err_out, const double *ref)
+{
+    SUNContext ctx;
+    SUNContext_Create(FPL_SUN_COMM_NULL, &ctx);
+    N_Vector y = N_VNew_Serial(6 * n, ctx);
+    if (fused) N_VEnableFusedOps_Serial(y, SUNTRUE);
+    initial(lat, n, N_VGetArrayPointer(y));
+    double t0 = now();
+    void *mem = ERKStepCreate(fpl_sun_rhs, 0.0, y, ctx);
+    ARKodeButcherTable B = NULL;
+    fpl_sun_erk_table("dop853", &B);
+    ERKStepSetTable(mem, B);
+    ARKodeButcherTable_Free(B);
+    ERK(SetUserData)(mem, lat);
+    ERK(SStolerances)(mem, 1e-10, 1e-10);
+    ERK(SetMaxNumSteps)(mem, 10000000);
+    ERK(SetStopTime)(mem, T);
+    double t = 0.0;
+    ERK(Evolve)(mem, T, y, &t, ARK_NORMAL);
+    double wall = now() - t0;
+    long nfe = 0;
+    ERKStepGetNumRhsEvals(mem, &nfe);
+    double err = 0.0;
+    for (int i = 0; i < 6 * n; i++) err = fmax(err, fabs(NV_Ith_S(y, i) - ref[i]));
+    *err_out = err;
+    ERK(Free)(&mem);
+    N_VDestroy(y);
+    SUNContext_Free(&ctx);
+    return 1e9 * wall / ((double)nfe * n);
+}
+
+static double fpl(fpl_lattice *lat, int n, const char *method, double T, double *err_out,
+                  const double *ref)
+{
+    double *y0 = malloc(sizeof(double) * 6 * n), *y = malloc(sizeof(double) * 6 * n);
+    initial(lat, n, y0);
+    fpl_integrator_options opt;
+    fpl_integrator_options_init(&opt);
+    opt.rtol = opt.atol = 1e-10;
+    double t0 = now();
+    fpl_integrator *h = NULL;
+    fpl_integrator_create(lat, method, 2, &opt, 0.0, y0, &h);
+    fpl_integrator_advance(h, T, y);
+    double wall = now() - t0;
+    long steps, nf;
+    fpl_integrator_counters(h, &steps, &nf);
+    double err = 0.0;
+    for (int i = 0; i < 6 * n && ref; i++) err = fmax(err, fabs(y[i] - ref[i]));
+    *err_out = err;
+    fpl_integrator_free(&h);
+    free(y0);
+    free(y);
+    return 1e9 * wall / ((double)nf * n);
+}
+
+int main(int argc, char **argv)
+{
+    const double T = argc > 1 ? atof(argv[1]) : 20.0;
+    printf("SUNDIALS %s, T = %g, rtol = atol = 1e-10, 2 deviation vectors: ns/(p*f), best of 3 "
+           "(err vs srkn14a6 dt 0.01)\n", fpl_sundials_version(), T);
+    printf("%6s %14s %14s %14s %14s\n", "N", "ERKStep", "ERKStep+fused", "fpl dop853",
+           "fpl gsl-rk8pd");
+    for (int n = 512; n <= 4096; n *= 8) {
+        fpl_lattice *lat = NULL;
+        fpl_lattice_create(n, 0.25, 0.0, FPL_MODEL_HOMOGENEOUS, NULL, &lat);
+        double *y0 = malloc(sizeof(double) * 6 * n), *ref = malloc(sizeof(double) * 6 * n);
+        initial(lat, n, y0);
+        fpl_integrator_options opt;
+        fpl_integrator_options_init(&opt);
+        fpl_integrator *h = NULL;
+        fpl_integrator_create(lat, "srkn14a6", 2, &opt, 0.0, y0, &h);
+        fpl_integrator_advance(h, T, ref);
+        fpl_integrator_free(&h);
+        double best[4] = {1e300, 1e300, 1e300, 1e300}, err[4];
+        for (int r = 0; r < 3; r++) {
+            best[0] = fmin(best[0], erk(lat, n, 0, T, &err[0], ref));
+            best[1] = fmin(best[1], erk(lat, n, 1, T, &err[1], ref));
+            best[2] = fmin(best[2], fpl(lat, n, "dop853", T, &err[2], ref));
+            best[3] = fmin(best[3], fpl(lat, n, "gsl-rk8pd", T, &err[3], ref));
+        }
+        printf("%6d %14.1f %14.1f %14.1f %14.1f\n", n, best[0], best[1], best[2], best[3]);
+        printf("%6s %14.1e %14.1e %14.1e %14.1e\n", "err", err[0], err[1], err[2], err[3]);
+        free(y0);
+        free(ref);
+        fpl_lattice_free(&lat);
+    }
+    return 0;
+}
