@@ -56,4 +56,8 @@ unsigned long long fpl_fnv1a(unsigned long long h, const void *data, size_t n);
  * checkpoint instead: how many rows the file had, and the pending ones. */
 int fpl_results_save_pending(const fpl_results *results, hid_t checkpoint_file);
 
+/* Check a checkpoint's bytes against the size and checksum in its header (checkpoint.c), before
+ * HDF5 parses it: FPL_OK or FPL_ERR_IO with the message set. */
+int fpl_checkpoint_verify_bytes(const char *path);
+
 #endif

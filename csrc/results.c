@@ -1,5 +1,10 @@
 /* Results files: samples appended chunk by chunk to extendible, chunked, compressed HDF5
- * datasets (schema in docs/hdf5.md). Memory use is one chunk, whatever the length of the run. */
+ * datasets (schema in docs/hdf5.md). Memory use is one chunk, whatever the length of the run.
+ * Every chunk carries a Fletcher-32 checksum and the file uses HDF5's 1.8 format, whose
+ * superblock and object headers (attributes included) are checksummed too: a damaged file gives
+ * an error when read, not wrong numbers. (Not the 1.10 format: its superblock marks a file
+ * open for writing, and a run killed by SIGKILL would leave a file nobody can open.) Resuming
+ * reads back every row it keeps (verified) before it changes anything. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,7 +67,7 @@ static hid_t create_series(hid_t loc, const char *name, int cols, int chunk_rows
     hid_t space = H5Screate_simple(rank, dims, maxdims), dcpl = H5Pcreate(H5P_DATASET_CREATE);
     hid_t lcpl = H5Pcreate(H5P_LINK_CREATE), d = -1;
     if (space >= 0 && dcpl >= 0 && lcpl >= 0 && H5Pset_chunk(dcpl, rank, chunk) >= 0 &&
-        H5Pset_shuffle(dcpl) >= 0 && H5Pset_deflate(dcpl, 4) >= 0 &&
+        H5Pset_shuffle(dcpl) >= 0 && H5Pset_deflate(dcpl, 4) >= 0 && H5Pset_fletcher32(dcpl) >= 0 &&
         H5Pset_create_intermediate_group(lcpl, 1) >= 0)
         d = H5Dcreate2(loc, name, H5T_NATIVE_DOUBLE, space, lcpl, dcpl, H5P_DEFAULT);
     if (space >= 0) H5Sclose(space);
@@ -100,16 +105,6 @@ static int set_rows(series *s, long rows)
     if (H5Dset_extent(s->d, size) < 0) return -1;
     s->rows = rows;
     return 0;
-}
-
-static long series_rows(hid_t d)
-{
-    hid_t space = H5Dget_space(d);
-    hsize_t dims[2] = {0, 0};
-    if (space < 0) return -1;
-    int ok = H5Sget_simple_extent_dims(space, dims, NULL) >= 1;
-    H5Sclose(space);
-    return ok ? (long)dims[0] : -1;
 }
 
 static void release(fpl_results *r)
@@ -182,7 +177,10 @@ int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *i
     if ((st = new_handle(lat, info, &r))) return st;
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
-    r->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    r->file = fapl >= 0 && H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18) >= 0
+                  ? H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl) : -1;
+    if (fapl >= 0) H5Pclose(fapl);
     if (r->file < 0) {
         char msg[256];
         fpl_h5_error_text(msg, sizeof msg);
@@ -250,6 +248,8 @@ int fpl_results_save_pending(const fpl_results *r, hid_t f)
 /* Read the rows on disk and the pending rows of the checkpoint into r (buffers). */
 static int load_pending(fpl_results *r, const char *checkpoint, long *rows, long *crows)
 {
+    int vst = fpl_checkpoint_verify_bytes(checkpoint);
+    if (vst) return vst;
     hid_t f = H5Fopen(checkpoint, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) {
         char msg[256];
@@ -303,50 +303,152 @@ out:
     return st;
 }
 
+/* Read rows [0, rows) of a series back in chunk-sized blocks (HDF5 verifies each chunk's
+ * Fletcher-32 checksum and the index that locates it). */
+static int read_back(const series *s, double *buf, long rows, int chunk)
+{
+    int rank = s->cols ? 2 : 1;
+    for (long at = 0; at < rows; at += chunk) {
+        long n = rows - at < chunk ? rows - at : chunk;
+        hsize_t start[2] = {(hsize_t)at, 0}, count[2] = {(hsize_t)n, (hsize_t)s->cols};
+        hid_t fs = H5Dget_space(s->d), ms = H5Screate_simple(rank, count, NULL);
+        int ok = fs >= 0 && ms >= 0 &&
+                 H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+                 H5Dread(s->d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, buf) >= 0;
+        if (fs >= 0) H5Sclose(fs);
+        if (ms >= 0) H5Sclose(ms);
+        if (!ok) return -1;
+    }
+    return 0;
+}
+
+/* Shape of a series on disk: rank and columns as expected; -1 otherwise. */
+static long series_rows_checked(const series *s)
+{
+    hid_t space = H5Dget_space(s->d);
+    hsize_t dims[2] = {0, 0};
+    if (space < 0) return -1;
+    int rank = H5Sget_simple_extent_ndims(space);
+    int ok = rank == (s->cols ? 2 : 1) && H5Sget_simple_extent_dims(space, dims, NULL) == rank &&
+             (!s->cols || dims[1] == (hsize_t)s->cols);
+    H5Sclose(space);
+    return ok ? (long)dims[0] : -1;
+}
+
+/* Open `path` (read-only or read-write) for a resume from `checkpoint`: check it describes this
+ * lattice and method, read the checkpoint's pending rows, open the datasets and check their
+ * shapes and that the file holds the rows the checkpoint records. With `verify`, also read all
+ * those rows back. Nothing is changed. */
+static int open_for_resume(fpl_results *r, const char *path, unsigned mode, const fpl_run_info *info,
+                           const char *checkpoint, int verify, long *rows, long *crows)
+{
+    int st;
+    r->file = H5Fopen(path, mode, H5P_DEFAULT);
+    if (r->file < 0) {
+        char msg[256];
+        fpl_h5_error_text(msg, sizeof msg);
+        return fpl_error(NULL, FPL_ERR_IO, "cannot open results file %s to resume (missing or "
+                         "corrupt?): %s", path, msg);
+    }
+    if ((st = fpl_h5_check_description(r->file, path, SCHEMA, r->lat, info->method))) return st;
+    if ((st = load_pending(r, checkpoint, rows, crows))) return st;
+    for (int i = 0; i < S_COUNT; i++) {
+        if (i == S_STATES && !r->store_states) continue;
+        if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
+            (r->s[i].d = H5Dopen2(r->file, s_names[i], H5P_DEFAULT)) < 0) {
+            H5Eclear2(H5E_DEFAULT);
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has no dataset %s (was it written with the same "
+                             "options?)", path, s_names[i]);
+        }
+    }
+    if (*crows > 0) {
+        if (H5Lexists(r->file, "chaos", H5P_DEFAULT) <= 0) {
+            H5Eclear2(H5E_DEFAULT);
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has no /chaos group, its checkpoint %s records "
+                             "%ld chaos rows", path, checkpoint, *crows);
+        }
+        for (int i = 0; i < C_COUNT; i++) {
+            if (H5Lexists(r->file, c_names[i], H5P_DEFAULT) <= 0 ||
+                (r->c[i].d = H5Dopen2(r->file, c_names[i], H5P_DEFAULT)) < 0) {
+                H5Eclear2(H5E_DEFAULT);
+                return fpl_error(NULL, FPL_ERR_IO, "%s: dataset %s missing or unreadable (corrupt?)",
+                                 path, c_names[i]);
+            }
+        }
+    }
+    for (int i = 0; i < S_COUNT; i++) {
+        if (r->s[i].d < 0) continue;
+        long have = series_rows_checked(&r->s[i]);
+        if (have < 0)
+            return fpl_error(NULL, FPL_ERR_IO, "%s: dataset %s has the wrong shape (corrupt?)", path,
+                             s_names[i]);
+        if (have < *rows)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
+                             "checkpoint %s records: not the file of that run", path, have,
+                             s_names[i], *rows, checkpoint);
+        if (verify && read_back(&r->s[i], r->buf[i] ? r->buf[i] : NULL, *rows, r->chunk)) {
+            char msg[256];
+            fpl_h5_error_text(msg, sizeof msg);
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: reading back %s failed: %s", path,
+                             s_names[i], msg);
+        }
+    }
+    for (int i = 0; i < C_COUNT && *crows > 0; i++) {
+        long have = series_rows_checked(&r->c[i]);
+        if (have < 0)
+            return fpl_error(NULL, FPL_ERR_IO, "%s: dataset %s has the wrong shape (corrupt?)", path,
+                             c_names[i]);
+        if (have < *crows)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
+                             "checkpoint %s records: not the file of that run", path, have,
+                             c_names[i], *crows, checkpoint);
+        if (verify && read_back(&r->c[i], r->cbuf[i], *crows, r->chunk)) {
+            char msg[256];
+            fpl_h5_error_text(msg, sizeof msg);
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: reading back %s failed: %s", path,
+                             c_names[i], msg);
+        }
+    }
+    return FPL_OK;
+}
+
+static int resume_args(const char *path, const char *checkpoint)
+{
+    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
+    if (!checkpoint || !*checkpoint) return fpl_error(NULL, FPL_ERR_ARG, "checkpoint: empty file name");
+    return FPL_OK;
+}
+
+int fpl_results_verify(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+                       const char *checkpoint)
+{
+    int st = resume_args(path, checkpoint);
+    if (st || (st = check_info(lat, info))) return st;
+    fpl_results *r;
+    if ((st = new_handle(lat, info, &r))) return st;
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    long rows = 0, crows = 0;
+    st = open_for_resume(r, path, H5F_ACC_RDONLY, info, checkpoint, 1, &rows, &crows);
+    release(r);
+    H5Eclear2(H5E_DEFAULT);
+    fpl_h5_quiet_end(&q);
+    return st;
+}
+
 int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *info,
                        const char *checkpoint, fpl_results **out)
 {
     if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
     *out = NULL;
-    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
-    if (!checkpoint || !*checkpoint) return fpl_error(NULL, FPL_ERR_ARG, "checkpoint: empty file name");
-    int st = check_info(lat, info);
+    int st = fpl_results_verify(path, lat, info, checkpoint);   /* read-only: all or nothing */
     if (st) return st;
     fpl_results *r;
     if ((st = new_handle(lat, info, &r))) return st;
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     long rows = 0, crows = 0;
-    r->file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
-    if (r->file < 0) {
-        char msg[256];
-        fpl_h5_error_text(msg, sizeof msg);
-        st = fpl_error(NULL, FPL_ERR_IO, "cannot open results file %s to resume: %s", path, msg);
-        goto done;
-    }
-    if ((st = fpl_h5_check_description(r->file, path, SCHEMA, lat, info->method))) goto done;
-    if ((st = load_pending(r, checkpoint, &rows, &crows))) goto done;
-    for (int i = 0; i < S_COUNT; i++) {
-        if (i == S_STATES && !r->store_states) continue;
-        if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
-            (r->s[i].d = H5Dopen2(r->file, s_names[i], H5P_DEFAULT)) < 0) {
-            H5Eclear2(H5E_DEFAULT);
-            st = fpl_error(NULL, FPL_ERR_ARG, "%s has no dataset %s (was it written with the same "
-                           "options?)", path, s_names[i]);
-            goto done;
-        }
-    }
-    if (crows > 0 && ensure_chaos(r)) {
-        st = h5_fail(r, "opening the chaos datasets");
-        goto done;
-    }
-    long have = series_rows(r->s[S_T].d), chave = crows > 0 ? series_rows(r->c[C_T].d) : 0;
-    if (have < rows || chave < crows) {
-        st = fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows (%ld chaos rows), fewer than the %ld (%ld) "
-                       "its checkpoint %s records: not the file of that run", path, have, chave,
-                       rows, crows, checkpoint);
-        goto done;
-    }
+    if ((st = open_for_resume(r, path, H5F_ACC_RDWR, info, checkpoint, 0, &rows, &crows))) goto done;
     /* cut back to whole chunks written before the checkpoint; later ones go */
     int bad = 0;
     for (int i = 0; i < S_COUNT && !bad; i++) bad = set_rows(&r->s[i], rows) != 0;

@@ -62,6 +62,12 @@ FPL_API int fpl_results_create(const char *path, fpl_lattice *lattice, const fpl
  * chunks) and the rows of the chunk then in progress come back from the checkpoint. */
 FPL_API int fpl_results_resume(const char *path, fpl_lattice *lattice, const fpl_run_info *info,
                                const char *checkpoint, fpl_results **out);
+/* The read-only part of fpl_results_resume: check that `path` and `checkpoint` belong together
+ * and read back every row the resume keeps (each chunk's checksum verified). Changes nothing;
+ * meant to be run where a fault inside libhdf5 on a damaged file cannot take down a long-running
+ * process (fputlab's Python layer runs it in a child process first). */
+FPL_API int fpl_results_verify(const char *path, fpl_lattice *lattice, const fpl_run_info *info,
+                               const char *checkpoint);
 FPL_API const char *fpl_results_errmsg(const fpl_results *results);
 
 /* Append a sample at time t of state y (length 2N(1 + n_dev)): t, the orbit's mode energies and
