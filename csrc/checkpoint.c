@@ -66,6 +66,8 @@ static void folder_of(const char *path, char *dir, size_t len)
     else snprintf(dir, len, "%.*s", (int)(slash - path), path);
 }
 
+int fpl_fsync_path(const char *path) { return fsync_path(path, O_RDONLY); }
+
 /* ---- the byte checksum in the user block ------------------------------------------------- */
 #define USERBLOCK 512
 #define MAGIC "fputlab-checkpoint-bytes/1\n"
@@ -151,7 +153,7 @@ int fpl_checkpoint_verify_bytes(const char *path)
 
 /* Where a checkpoint really goes: a symbolic link is followed (also a dangling one), so that the
  * link stays a link and its target receives the new checkpoint. */
-static int resolve_target(const char *path, char *out, size_t len)
+int fpl_resolve_target(const char *path, char *out, size_t len)
 {
     char cur[4096], link[4096];
     if (snprintf(cur, sizeof cur, "%s", path) >= (int)sizeof cur) return -1;
@@ -214,7 +216,7 @@ int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl
     if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
     if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
     char target[4096];
-    if (resolve_target(path_in, target, sizeof target) != 0)
+    if (fpl_resolve_target(path_in, target, sizeof target) != 0)
         return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: cannot resolve the path (symbolic link "
                          "loop or name too long)", path_in);
     path = target;

@@ -5,9 +5,12 @@
  * an error when read, not wrong numbers. (Not the 1.10 format: its superblock marks a file
  * open for writing, and a run killed by SIGKILL would leave a file nobody can open.) Resuming
  * reads back every row it keeps (verified) before it changes anything. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "h5util.h"
 #include "internal.h"
 
@@ -19,6 +22,7 @@ typedef struct series {
     hid_t d;
     int cols;
     long rows;      /* rows on disk */
+    unsigned long long hash;   /* FNV-1a of the bytes of those rows, in order */
 } series;
 
 enum { S_T, S_ENERGY, S_MODE_ENERGIES, S_STATES, S_COUNT };
@@ -94,17 +98,11 @@ static int append_rows(series *s, const double *buf, int n, char *errbuf, size_t
     if (!ok) fpl_h5_error_text(errbuf, errlen);
     if (fs >= 0) H5Sclose(fs);
     if (ms >= 0) H5Sclose(ms);
-    if (ok) s->rows += n;
+    if (ok) {
+        s->rows += n;
+        s->hash = fpl_fnv1a(s->hash, buf, sizeof(double) * (size_t)n * (s->cols ? s->cols : 1));
+    }
     return ok ? 0 : -1;
-}
-
-static int set_rows(series *s, long rows)
-{
-    hsize_t size[2] = {(hsize_t)rows, (hsize_t)s->cols};
-    if (s->d < 0) return 0;
-    if (H5Dset_extent(s->d, size) < 0) return -1;
-    s->rows = rows;
-    return 0;
 }
 
 static void release(fpl_results *r)
@@ -149,12 +147,12 @@ static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **
     const int cols[S_COUNT] = {0, 0, lat->n, (int)r->dim};
     int bad = !(r->ek = malloc(sizeof(double) * (size_t)lat->n));
     for (int i = 0; i < S_COUNT; i++) {
-        r->s[i] = (series){-1, cols[i], 0};
+        r->s[i] = (series){-1, cols[i], 0, FPL_FNV_OFFSET};
         if (i == S_STATES && !r->store_states) continue;
         bad |= !(r->buf[i] = malloc(sizeof(double) * (size_t)r->chunk * (cols[i] ? cols[i] : 1)));
     }
     for (int i = 0; i < C_COUNT; i++) {
-        r->c[i] = (series){-1, 0, 0};
+        r->c[i] = (series){-1, 0, 0, FPL_FNV_OFFSET};
         bad |= !(r->cbuf[i] = malloc(sizeof(double) * (size_t)r->chunk));
     }
     if (bad) {
@@ -163,6 +161,30 @@ static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **
     }
     *out = r;
     return FPL_OK;
+}
+
+/* Create the file at path for handle r: description, status "running", the datasets. */
+static int create_in(fpl_results *r, const char *path, const fpl_run_info *info)
+{
+    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    r->file = fapl >= 0 && H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18) >= 0
+                  ? H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl) : -1;
+    if (fapl >= 0) H5Pclose(fapl);
+    if (r->file < 0) {
+        char msg[256];
+        fpl_h5_error_text(msg, sizeof msg);
+        return fpl_error(NULL, FPL_ERR_IO, "cannot create results file %s: %s", path, msg);
+    }
+    if (fpl_h5_write_description(r->file, SCHEMA, r->lat, info) ||
+        fpl_h5_set_string(r->file, "status", "running") ||
+        fpl_h5_set_string(r->file, "message", ""))
+        return h5_fail(r, "writing the run description");
+    for (int i = 0; i < S_COUNT; i++) {
+        if (i == S_STATES && !r->store_states) continue;
+        if ((r->s[i].d = create_series(r->file, s_names[i], r->s[i].cols, r->chunk)) < 0)
+            return h5_fail(r, "creating the datasets");
+    }
+    return H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "flush") : FPL_OK;
 }
 
 int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *info,
@@ -177,31 +199,7 @@ int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *i
     if ((st = new_handle(lat, info, &r))) return st;
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
-    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-    r->file = fapl >= 0 && H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18) >= 0
-                  ? H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl) : -1;
-    if (fapl >= 0) H5Pclose(fapl);
-    if (r->file < 0) {
-        char msg[256];
-        fpl_h5_error_text(msg, sizeof msg);
-        st = fpl_error(NULL, FPL_ERR_IO, "cannot create results file %s: %s", path, msg);
-        goto done;
-    }
-    if (fpl_h5_write_description(r->file, SCHEMA, lat, info) ||
-        fpl_h5_set_string(r->file, "status", "running") ||
-        fpl_h5_set_string(r->file, "message", "")) {
-        st = h5_fail(r, "writing the run description");
-        goto done;
-    }
-    for (int i = 0; i < S_COUNT; i++) {
-        if (i == S_STATES && !r->store_states) continue;
-        if ((r->s[i].d = create_series(r->file, s_names[i], r->s[i].cols, r->chunk)) < 0) {
-            st = h5_fail(r, "creating the datasets");
-            goto done;
-        }
-    }
-    if (H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0) st = h5_fail(r, "flush");
-done:
+    st = create_in(r, path, info);
     fpl_h5_quiet_end(&q);
     if (st) {
         release(r);
@@ -236,6 +234,13 @@ int fpl_results_save_pending(const fpl_results *r, hid_t f)
               fpl_h5_set_long(f, "results_store_states", r->store_states) ||
               fpl_h5_set_long(f, "results_chunk_rows", r->chunk) ||
               fpl_h5_set_u64(f, "results_checksum", pending_hash(r));
+    /* what the rows on disk hash to: a resume reads them back and compares, so that damage
+     * HDF5 cannot see (its 1.8 chunk index has no checksum) is caught too */
+    for (int i = 0; i < S_COUNT + C_COUNT && !bad; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "results_data_hash_%d", i);
+        bad = fpl_h5_set_u64(f, name, i < S_COUNT ? r->s[i].hash : r->c[i - S_COUNT].hash);
+    }
     for (int i = 0; i < S_COUNT && !bad; i++)
         if (r->buf[i])
             bad = fpl_h5_write_vector(f, p_names[i], r->buf[i],
@@ -264,6 +269,14 @@ static int load_pending(fpl_results *r, const char *checkpoint, long *rows, long
         fpl_h5_get_long(f, "results_chunk_rows", &chunk) || fpl_h5_get_u64(f, "results_checksum", &sum)) {
         st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s does not record a results file", checkpoint);
         goto out;
+    }
+    for (int i = 0; i < S_COUNT + C_COUNT; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "results_data_hash_%d", i);
+        if (fpl_h5_get_u64(f, name, i < S_COUNT ? &r->s[i].hash : &r->c[i - S_COUNT].hash)) {
+            st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: %s missing", checkpoint, name);
+            goto out;
+        }
     }
     if (store != r->store_states || chunk != r->chunk) {
         st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s was written for results with states %s and "
@@ -303,22 +316,32 @@ out:
     return st;
 }
 
-/* Read rows [0, rows) of a series back in chunk-sized blocks (HDF5 verifies each chunk's
- * Fletcher-32 checksum and the index that locates it). */
-static int read_back(const series *s, double *buf, long rows, int chunk)
+/* Read rows [at, at + n) of a series into buf. */
+static int read_block(const series *s, double *buf, long at, long n)
 {
     int rank = s->cols ? 2 : 1;
+    hsize_t start[2] = {(hsize_t)at, 0}, count[2] = {(hsize_t)n, (hsize_t)s->cols};
+    hid_t fs = H5Dget_space(s->d), ms = H5Screate_simple(rank, count, NULL);
+    int ok = fs >= 0 && ms >= 0 &&
+             H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+             H5Dread(s->d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, buf) >= 0;
+    if (fs >= 0) H5Sclose(fs);
+    if (ms >= 0) H5Sclose(ms);
+    return ok ? 0 : -1;
+}
+
+/* Read rows [0, rows) of a series back in chunk-sized blocks (HDF5 verifies each chunk's
+ * Fletcher-32 checksum) and compare their hash with the one recorded in s->hash. */
+static int read_back(const series *s, double *buf, long rows, int chunk, int *mismatch)
+{
+    unsigned long long h = FPL_FNV_OFFSET;
+    *mismatch = 0;
     for (long at = 0; at < rows; at += chunk) {
         long n = rows - at < chunk ? rows - at : chunk;
-        hsize_t start[2] = {(hsize_t)at, 0}, count[2] = {(hsize_t)n, (hsize_t)s->cols};
-        hid_t fs = H5Dget_space(s->d), ms = H5Screate_simple(rank, count, NULL);
-        int ok = fs >= 0 && ms >= 0 &&
-                 H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
-                 H5Dread(s->d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, buf) >= 0;
-        if (fs >= 0) H5Sclose(fs);
-        if (ms >= 0) H5Sclose(ms);
-        if (!ok) return -1;
+        if (read_block(s, buf, at, n)) return -1;
+        h = fpl_fnv1a(h, buf, sizeof(double) * (size_t)n * (s->cols ? s->cols : 1));
     }
+    *mismatch = h != s->hash;
     return 0;
 }
 
@@ -386,12 +409,16 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
                              "checkpoint %s records: not the file of that run", path, have,
                              s_names[i], *rows, checkpoint);
-        if (verify && read_back(&r->s[i], r->buf[i] ? r->buf[i] : NULL, *rows, r->chunk)) {
+        int mismatch = 0;
+        if (verify && read_back(&r->s[i], r->buf[i], *rows, r->chunk, &mismatch)) {
             char msg[256];
             fpl_h5_error_text(msg, sizeof msg);
             return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: reading back %s failed: %s", path,
                              s_names[i], msg);
         }
+        if (mismatch)
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: its %s rows differ from those its "
+                             "checkpoint %s covers (checksum mismatch)", path, s_names[i], checkpoint);
     }
     for (int i = 0; i < C_COUNT && *crows > 0; i++) {
         long have = series_rows_checked(&r->c[i]);
@@ -402,12 +429,16 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
                              "checkpoint %s records: not the file of that run", path, have,
                              c_names[i], *crows, checkpoint);
-        if (verify && read_back(&r->c[i], r->cbuf[i], *crows, r->chunk)) {
+        int mismatch = 0;
+        if (verify && read_back(&r->c[i], r->cbuf[i], *crows, r->chunk, &mismatch)) {
             char msg[256];
             fpl_h5_error_text(msg, sizeof msg);
             return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: reading back %s failed: %s", path,
                              c_names[i], msg);
         }
+        if (mismatch)
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: its %s rows differ from those its "
+                             "checkpoint %s covers (checksum mismatch)", path, c_names[i], checkpoint);
     }
     return FPL_OK;
 }
@@ -436,6 +467,21 @@ int fpl_results_verify(const char *path, fpl_lattice *lat, const fpl_run_info *i
     return st;
 }
 
+/* Copy rows [0, rows) of `from` into the (empty) series `to`, through buf (chunk rows). */
+static int copy_rows(const series *from, series *to, double *buf, long rows, int chunk,
+                     char *errbuf, size_t errlen)
+{
+    for (long at = 0; at < rows; at += chunk) {
+        int n = (int)(rows - at < chunk ? rows - at : chunk);
+        if (read_block(from, buf, at, n)) {
+            fpl_h5_error_text(errbuf, errlen);
+            return -1;
+        }
+        if (append_rows(to, buf, n, errbuf, errlen)) return -1;
+    }
+    return 0;
+}
+
 int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *info,
                        const char *checkpoint, fpl_results **out)
 {
@@ -443,25 +489,76 @@ int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *i
     *out = NULL;
     int st = fpl_results_verify(path, lat, info, checkpoint);   /* read-only: all or nothing */
     if (st) return st;
-    fpl_results *r;
-    if ((st = new_handle(lat, info, &r))) return st;
+    /* The rows the checkpoint covers go into a fresh file, which then replaces the old one
+     * (rename): the old file is only read, so neither a kill during the resume nor damage in
+     * the old file's chunk index past those rows can reach the continued run. */
+    char target[4096], tmp[4200];
+    if (fpl_resolve_target(path, target, sizeof target) != 0)
+        return fpl_error(NULL, FPL_ERR_IO, "results file %s: cannot resolve the path", path);
+    snprintf(tmp, sizeof tmp, "%s.resume-%ld", target, (long)getpid());
+    fpl_results *old = NULL, *r = NULL;
+    if ((st = new_handle(lat, info, &old))) return st;
+    if ((st = new_handle(lat, info, &r))) {
+        release(old);
+        return st;
+    }
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     long rows = 0, crows = 0;
-    if ((st = open_for_resume(r, path, H5F_ACC_RDWR, info, checkpoint, 0, &rows, &crows))) goto done;
-    /* cut back to whole chunks written before the checkpoint; later ones go */
-    int bad = 0;
-    for (int i = 0; i < S_COUNT && !bad; i++) bad = set_rows(&r->s[i], rows) != 0;
-    for (int i = 0; i < C_COUNT && !bad; i++) bad = set_rows(&r->c[i], crows) != 0;
-    if (bad || fpl_h5_set_string(r->file, "status", "running") ||
-        H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0)
-        st = h5_fail(r, "cutting the results back to the checkpoint");
+    int created = 0;
+    if ((st = open_for_resume(old, path, H5F_ACC_RDONLY, info, checkpoint, 0, &rows, &crows)))
+        goto done;
+    created = 1;
+    if ((st = create_in(r, tmp, info))) goto done;
+    if (crows > 0 && ensure_chaos(r)) {
+        st = h5_fail(r, "creating the chaos datasets");
+        goto done;
+    }
+    for (int i = 0; i < S_COUNT && !st; i++)
+        if (old->s[i].d >= 0 && copy_rows(&old->s[i], &r->s[i], r->buf[i], rows, r->chunk,
+                                          r->h5msg, sizeof r->h5msg))
+            st = h5_fail(r, "copying the rows the checkpoint covers");
+    for (int i = 0; i < C_COUNT && !st && crows > 0; i++)
+        if (copy_rows(&old->c[i], &r->c[i], r->cbuf[i], crows, r->chunk, r->h5msg,
+                      sizeof r->h5msg))
+            st = h5_fail(r, "copying the chaos rows the checkpoint covers");
+    if (st) goto done;
+    for (int i = 0; i < S_COUNT + C_COUNT; i++) {
+        const series *a = i < S_COUNT ? &old->s[i] : &old->c[i - S_COUNT];
+        const series *b = i < S_COUNT ? &r->s[i] : &r->c[i - S_COUNT];
+        if (a->hash != b->hash) {
+            st = fpl_error(NULL, FPL_ERR_IO, "results file %s changed while resuming (rows differ "
+                           "from its checkpoint %s)", path, checkpoint);
+            goto done;
+        }
+    }
+    /* the pending rows of the chunk in progress, from the checkpoint */
+    for (int i = 0; i < S_COUNT; i++)
+        if (r->buf[i])
+            memcpy(r->buf[i], old->buf[i],
+                   sizeof(double) * (size_t)old->nbuf * (r->s[i].cols ? r->s[i].cols : 1));
+    for (int i = 0; i < C_COUNT; i++) memcpy(r->cbuf[i], old->cbuf[i], sizeof(double) * (size_t)old->ncbuf);
+    r->nbuf = old->nbuf;
+    r->ncbuf = old->ncbuf;
+    if (H5Fflush(r->file, H5F_SCOPE_GLOBAL) < 0) {
+        st = h5_fail(r, "flush");
+        goto done;
+    }
+    if (fpl_fsync_path(tmp) != 0 || rename(tmp, target) != 0) {
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot move the resumed results %s into place as %s",
+                       tmp, target);
+        goto done;
+    }
+    created = 0;
 done:
-    fpl_h5_quiet_end(&q);
+    release(old);
     if (st) {
         release(r);
-        return st;
+        if (created) remove(tmp);
     }
+    H5Eclear2(H5E_DEFAULT);
+    fpl_h5_quiet_end(&q);
+    if (st) return st;
     *out = r;
     return FPL_OK;
 }

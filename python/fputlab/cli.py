@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import sys
 
 import numpy as np
@@ -33,12 +35,67 @@ def _lattice(a):
     return Lattice(a.N, a.alpha, a.model, beta=a.beta, tau=a.tau, seed=a.seed, disorder=a.disorder)
 
 
+def _json_safe(x):
+    """x with numpy scalars/arrays as Python numbers/lists and non-finite floats as None, so that
+    the output is strict JSON (RFC 8259 has no NaN or Infinity)."""
+    if isinstance(x, dict):
+        return {str(k): _json_safe(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_json_safe(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _json_safe(x.tolist())
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    if x is None or isinstance(x, str):
+        return x
+    return str(x)
+
+
+def dumps_strict(obj, **kw) -> str:
+    """json.dumps of _json_safe(obj); never writes NaN/Infinity."""
+    return json.dumps(_json_safe(obj), allow_nan=False, **kw)
+
+
 def _emit(summary: dict, as_json: bool):
     if as_json:
-        print(json.dumps(summary, indent=2, default=float))
+        print(dumps_strict(summary, indent=2))
     else:
         for k, v in summary.items():
             print(f"{k:>24}: {v}")
+
+
+def _output_paths(a, *names):
+    """Refuse, before anything is written, output paths that collide with each other or an
+    existing file that --overwrite does not allow to replace. names: attribute names of a
+    (out, checkpoint, plot, work_dir); files a run resumes (checkpoint, a resumed --out) are
+    left to the run's own checks."""
+    given = [(n, getattr(a, n, None)) for n in names]
+    given = [(n, os.fspath(p)) for n, p in given if p]
+    for i, (n1, p1) in enumerate(given):
+        for n2, p2 in given[i + 1:]:
+            same = os.path.realpath(p1) == os.path.realpath(p2)
+            if not same and os.path.exists(p1) and os.path.exists(p2):
+                same = os.path.samefile(p1, p2)
+            if same:
+                raise ValueError(f"--{n2.replace('_', '-')} {p2!r} is the same file as "
+                                 f"--{n1.replace('_', '-')}: every output needs its own path")
+
+
+def _new_file(a, name: str):
+    """An output file that is written from scratch: refuse to replace an existing one unless
+    --overwrite."""
+    path = getattr(a, name, None)
+    if not path:
+        return
+    if os.path.isdir(path):
+        raise ValueError(f"--{name}: {path!r} is a directory")
+    if os.path.exists(path) and not getattr(a, "overwrite", False):
+        raise FileExistsError(f"--{name}: {path!r} exists; not overwritten (pass --overwrite to "
+                              "replace it)")
 
 
 def _write_h5(path, attrs: dict, datasets: dict):
@@ -107,12 +164,14 @@ def _summary_h5(path, summary: dict):
 def cmd_simulate(a):
     if a.checkpoint and not a.out:
         raise ValueError("--checkpoint needs --out (the results file it belongs to)")
+    _output_paths(a, "out", "checkpoint")
     lat = _lattice(a)
     if a.out:
         # long runs: the C core writes the samples as it goes, with checkpoints and restart
         from .io import simulate_to_file
         s = simulate_to_file(lat, a.t_end, a.out, method=a.method, sample_every=a.sample_every,
-                             store_states=a.states, **_integrator_kwargs(a), **_checkpoint_kwargs(a))
+                             store_states=a.states, overwrite=a.overwrite,
+                             **_integrator_kwargs(a), **_checkpoint_kwargs(a))
         _emit({"lattice": repr(lat), "method": a.method, **_run_summary(s)}, a.json)
         return {"completed": 0, "event": 0, "interrupted": 130}.get(s.status, 1)
     run = lat.integrate(a.t_end, method=a.method, sample_every=a.sample_every,
@@ -127,6 +186,8 @@ def cmd_simulate(a):
 
 def cmd_blowup(a):
     from .blowup import blowup_sweep, blowup_time
+    _output_paths(a, "out", "plot")
+    _new_file(a, "out")
     if a.realisations > 1 or len(a.taus) > 1:
         _ensemble_lattice_check(a)
         out = blowup_sweep(a.taus, Ns=[a.N], realisations=a.realisations, t_max=a.t_max,
@@ -158,6 +219,9 @@ def cmd_chaos(a):
     from .chaos import chaotic_fraction, lyapunov
     if a.checkpoint and (not a.out or a.realisations > 1):
         raise ValueError("--checkpoint needs --out and one orbit (use `fputlab sweep` for ensembles)")
+    _output_paths(a, "out", "checkpoint")
+    if a.realisations > 1:
+        _new_file(a, "out")
     opts = dict(_integrator_kwargs(a), n_samples=a.samples, stop_when_chaotic=a.stop_when_chaotic)
     if a.realisations > 1:
         _ensemble_lattice_check(a)
@@ -178,7 +242,7 @@ def cmd_chaos(a):
         # written as it goes, with checkpoints: runs to t = 1e8 survive interruptions
         from .io import chaos_to_file
         s = chaos_to_file(_lattice(a), a.t_end, a.out, method=a.method, **opts,
-                          **_checkpoint_kwargs(a))
+                          overwrite=a.overwrite, **_checkpoint_kwargs(a))
         _emit(_run_summary(s), a.json)
         return {"completed": 0, "interrupted": 130}.get(s.status, 1)
     res = lyapunov(_lattice(a), a.t_end, method=a.method, progress=not a.json, **opts)
@@ -219,6 +283,15 @@ def cmd_sweep(a):
     elif a.samples is not None:
         raise ValueError("--samples: only for --kind chaos")
     work_dir = a.work_dir if a.work_dir else f"{a.out}.tasks"
+    a.work_dir = work_dir
+    _output_paths(a, "out", "work_dir")
+    if os.path.exists(work_dir) and not os.path.isdir(work_dir):
+        raise ValueError(f"--work-dir: {work_dir!r} exists and is not a directory")
+    if os.path.isdir(a.out):
+        raise ValueError(f"--out: {a.out!r} is a directory")
+    if os.path.realpath(a.out).startswith(os.path.realpath(work_dir) + os.sep):
+        raise ValueError(f"--out {a.out!r} is inside --work-dir {work_dir!r}: keep the merged "
+                         "file out of the task folder")
     out = run_sweep(a.kind, taus, Ns, a.realisations, t_max=a.t_max, work_dir=work_dir,
                     out=a.out, model=a.model, alpha=a.alpha, first_seed=a.first_seed,
                     method=a.method, workers=a.workers, scheduler=a.scheduler,
@@ -251,6 +324,7 @@ def _coefficient_row(lat) -> dict:
 
 def cmd_coefficients(a):
     from .lattice import Lattice
+    _new_file(a, "out")
     rows = []
     for tau in a.taus:
         if a.model == "homogeneous":
@@ -283,6 +357,7 @@ def cmd_coefficients(a):
 
 def cmd_tauc(a):
     from .reduction import critical_tolerance
+    _new_file(a, "out")
     tau = None
     if a.fit_taus is not None:
         tau = np.asarray(a.fit_taus, dtype=float)
@@ -305,6 +380,8 @@ def cmd_tauc(a):
 
 def cmd_bifurcation(a):
     from .reduction import REGIONS, ReducedSystem, classify, r1_squared
+    _output_paths(a, "out", "plot")
+    _new_file(a, "out")
     r1sq = r1_squared(a.N)
     rs = ReducedSystem(a.A_tilde, a.B_tilde, N=a.N)
     lo, hi = rs.region()
@@ -331,6 +408,11 @@ def cmd_bifurcation(a):
     return 0
 
 
+def _overwrite_arg(p):
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing --out file (otherwise refused)")
+
+
 def _checkpoint_args(p):
     p.add_argument("--checkpoint", help="checkpoint file (with --out): resume from it if it exists")
     p.add_argument("--checkpoint-every", type=float, default=600.0, metavar="SECONDS",
@@ -355,6 +437,7 @@ def build_parser():
     s.add_argument("--sample-every", type=float, default=None)
     s.add_argument("--states", action="store_true", help="also store the states")
     s.add_argument("--out", help="HDF5 results file, written as the run goes (see docs/hdf5.md)")
+    _overwrite_arg(s)
     _checkpoint_args(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_simulate)
@@ -367,6 +450,7 @@ def build_parser():
     s.add_argument("--realisations", type=int, default=1)
     s.add_argument("--workers", type=int, default=None)
     s.add_argument("--out")
+    _overwrite_arg(s)
     s.add_argument("--plot", help="PNG of the sweep: probability vs tau, blow-up times")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_blowup)
@@ -381,6 +465,7 @@ def build_parser():
     s.add_argument("--Ns", type=int, nargs="+", default=[4, 8, 16, 32, 64])
     s.add_argument("--workers", type=int, default=None)
     s.add_argument("--out", help="HDF5 file (one orbit: written as the run goes, with checkpoints)")
+    _overwrite_arg(s)
     _checkpoint_args(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_chaos)
@@ -432,6 +517,7 @@ def build_parser():
     s.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
     s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
     s.add_argument("--out", help="HDF5 file to write")
+    _overwrite_arg(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_coefficients)
 
@@ -447,6 +533,7 @@ def build_parser():
                    help="tau grid of the fit (default 0, 0.5, ..., 20)")
     s.add_argument("--json", action="store_true")
     s.add_argument("--out", help="HDF5 file with the summary")
+    _overwrite_arg(s)
     s.set_defaults(func=cmd_tauc)
 
     s = sub.add_parser("bifurcation", help="reduced (P, Delta, theta) system at (A~, B~): C, "
@@ -460,6 +547,7 @@ def build_parser():
     s.add_argument("--plot", help="PNG of the (A~, B~) bifurcation diagram (Fig. 7)")
     s.add_argument("--json", action="store_true")
     s.add_argument("--out", help="HDF5 file with the summary")
+    _overwrite_arg(s)
     s.set_defaults(func=cmd_bifurcation)
 
     s = sub.add_parser("figures", help="regenerate the paper's figures as PNGs")
@@ -473,8 +561,7 @@ def build_parser():
     return p
 
 
-def main(argv=None) -> int:
-    argv = sys.argv[1:] if argv is None else list(argv)
+def _run(argv) -> int:
     if argv[:1] == ["demo"]:
         from .demo import main as demo_main
         return demo_main(argv[1:])
@@ -489,8 +576,39 @@ def main(argv=None) -> int:
         return 2
     if getattr(a, "taus", "absent") is None:
         a.taus = [a.tau]
+    return a.func(a)
+
+
+def _one_line(err: BaseException) -> str:
+    msg = " ".join(str(err).split()) or type(err).__name__
+    if isinstance(err, (ValueError, TypeError)):
+        return msg
+    if isinstance(err, OSError) and err.filename and str(err.filename) not in msg:
+        msg = f"{msg}: {err.filename}"
+    if isinstance(err, ImportError) and err.name:
+        return f"{msg} (the Python package {err.name!r} is needed for this; pip install it)"
+    return f"{type(err).__name__}: {msg}" if not isinstance(err, OSError) else msg
+
+
+def main(argv=None) -> int:
+    """The `fputlab` command. Every failure is one line on stderr and exit status 2 (130 on
+    Ctrl-C / SIGINT); FPUTLAB_TRACEBACK=1 shows the traceback instead."""
+    argv = sys.argv[1:] if argv is None else list(argv)
     try:
-        return a.func(a)
-    except (ValueError, TypeError) as err:
-        print(f"fputlab: error: {err}", file=sys.stderr)
+        return _run(argv)
+    except KeyboardInterrupt:
+        print("fputlab: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:                   # `fputlab ... | head`: not an error of ours
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
+    except SystemExit:
+        raise
+    except Exception as err:                  # noqa: BLE001 - the CLI never shows a traceback
+        if os.environ.get("FPUTLAB_TRACEBACK"):
+            raise
+        print(f"fputlab: error: {_one_line(err)}", file=sys.stderr)
         return 2
