@@ -3,7 +3,6 @@ blow-up probability over disorder realisations (paper Sec. 3, Fig. 3 and Sec. 4)
 from __future__ import annotations
 
 import math
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -12,7 +11,7 @@ from ._arrays import as_float_array
 from ._errors import check
 from ._native import ffi, lib
 from .integrate import Integrator, method_info
-from .lattice import Lattice, _real
+from .lattice import Lattice, _int, _real
 
 #: criterion names -> C kinds
 CRITERIA = {
@@ -46,7 +45,7 @@ def set_criteria(lattice: Lattice, criteria) -> None:
             raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
         ev.kind[i] = CRITERIA[name]
         ev.threshold[i] = _real(c[1], f"criteria[{i}] threshold")
-        ev.mode[i] = int(c[2]) if len(c) == 3 else 0
+        ev.mode[i] = _int(c[2], f"criteria[{i}] mode k") if len(c) == 3 else 0
     ev.n = len(criteria)
     lattice._check(lib.fpl_lattice_set_events(lattice._h, ev))
 
@@ -130,10 +129,11 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
     (tau, N, seed, blew_up, time, tau_c) where tau_c is the realisation's own two-mode threshold
     (B~ < 0 above it), and `prediction_accuracy`: the share of runs where "tau > tau_c" agrees
     with "blew up before t_max"."""
-    taus, Ns = [float(t) for t in taus], [int(n) for n in Ns]
+    from .ensemble import check_ensemble, process_pool
+    taus, Ns, realisations = check_ensemble(taus, Ns, realisations)
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    with process_pool(workers) as pool:
         it = pool.map(_one, tasks)
         if progress:
             from tqdm import tqdm

@@ -3,7 +3,6 @@ orbits, and the chaotic fraction over disorder realisations (paper Sec. 5, Figs.
 from __future__ import annotations
 
 import math
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -12,7 +11,7 @@ from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
 from .integrate import method_info
-from .lattice import Lattice, _int, _real
+from .lattice import C_U64, Lattice, _int, _real
 
 
 @dataclass
@@ -106,7 +105,7 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     co.n_dev = n_dev
     co.sali_threshold = _real(sali_threshold, "sali_threshold")
     co.stop_when_chaotic = bool(stop_when_chaotic)
-    seed = _int(seed, "seed")
+    seed = _int(seed, "seed", C_U64)
     if seed < 0:
         raise ValueError(f"seed must be >= 0 (got {seed})")
     co.seed = seed
@@ -148,10 +147,12 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
     """Percentage of chaotic orbits (SALI < threshold) over `realisations` disorder draws for each N
     (paper Fig. 14: tau = 10 %, model 3, DOP853, t = 1e8). Realisations run in parallel processes.
     Returns {"N": [...], "percent": [...], "results": {N: [ChaosResult, ...]}}."""
+    from .ensemble import check_ensemble, process_pool
+    _, Ns, realisations = check_ensemble([tau], Ns, realisations)
     tasks = [(int(N), tau, first_seed + r, model, alpha, t_end, method, kwargs)
              for N in Ns for r in range(realisations)]
     results: dict = {int(N): [] for N in Ns}
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    with process_pool(workers) as pool:
         it = pool.map(_one_realisation, tasks)
         if progress:
             from tqdm import tqdm

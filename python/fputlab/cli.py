@@ -16,7 +16,9 @@ def _lattice_args(p, model="nonlinear", tau=10.0, N=64):
     p.add_argument("--beta", type=float, default=0.0, help="quartic coupling (default 0)")
     p.add_argument("--model", default=model, choices=["homogeneous", "hamiltonian", "nonlinear"],
                    help=f"lattice model (default {model})")
-    p.add_argument("--tau", type=float, default=tau, help=f"variability in percent (default {tau:g})")
+    # default None: whether --tau was given matters (the homogeneous model refuses it)
+    p.add_argument("--tau", type=float, default=None, help=f"variability in percent (default {tau:g})")
+    p.set_defaults(tau_default=tau)
     p.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
     p.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
 
@@ -31,6 +33,7 @@ def _method_args(p, dt=0.01):
 def _lattice(a):
     from .lattice import Lattice
     if a.model == "homogeneous":
+        _homogeneous_check(a)
         return Lattice(a.N, a.alpha, a.model, beta=a.beta)
     return Lattice(a.N, a.alpha, a.model, beta=a.beta, tau=a.tau, seed=a.seed, disorder=a.disorder)
 
@@ -58,6 +61,19 @@ def _json_safe(x):
 def dumps_strict(obj, **kw) -> str:
     """json.dumps of _json_safe(obj); never writes NaN/Infinity."""
     return json.dumps(_json_safe(obj), allow_nan=False, **kw)
+
+
+def _homogeneous_check(a):
+    """The homogeneous model has no disorder: a --tau given with it is refused, not ignored."""
+    if a.model == "homogeneous" and getattr(a, "tau_given", False) and a.tau != 0:
+        raise ValueError(f"--tau {a.tau:g}: the homogeneous model has no disorder (use --model "
+                         "hamiltonian or nonlinear, or drop --tau)")
+
+
+def _positive(a, name: str, minimum: int = 1):
+    value = getattr(a, name, None)
+    if value is not None and value < minimum:
+        raise ValueError(f"--{name.replace('_', '-')} must be >= {minimum} (got {value})")
 
 
 def _emit(summary: dict, as_json: bool):
@@ -186,6 +202,9 @@ def cmd_simulate(a):
 
 def cmd_blowup(a):
     from .blowup import blowup_sweep, blowup_time
+    _positive(a, "realisations")
+    _positive(a, "workers")
+    _homogeneous_check(a)
     _output_paths(a, "out", "plot")
     _new_file(a, "out")
     if a.realisations > 1 or len(a.taus) > 1:
@@ -219,6 +238,10 @@ def cmd_chaos(a):
     from .chaos import chaotic_fraction, lyapunov
     if a.checkpoint and (not a.out or a.realisations > 1):
         raise ValueError("--checkpoint needs --out and one orbit (use `fputlab sweep` for ensembles)")
+    _positive(a, "realisations")
+    _positive(a, "workers")
+    _positive(a, "samples")
+    _homogeneous_check(a)
     _output_paths(a, "out", "checkpoint")
     if a.realisations > 1:
         _new_file(a, "out")
@@ -254,6 +277,10 @@ def cmd_chaos(a):
 def cmd_figures(a):
     from .figures import all_figures
     only = set(a.only) if a.only else None
+    unknown = sorted(k for k in (only or ()) if not 1 <= k <= 14)
+    if unknown:
+        raise ValueError(f"--only: there is no figure {', '.join(map(str, unknown))} (the paper's "
+                         "figures are 1-14)")
     for p in all_figures(a.out, full=a.full, only=only):
         print(p)
     return 0
@@ -380,6 +407,7 @@ def cmd_tauc(a):
 
 def cmd_bifurcation(a):
     from .reduction import REGIONS, ReducedSystem, classify, r1_squared
+    _positive(a, "N", 2)
     _output_paths(a, "out", "plot")
     _new_file(a, "out")
     r1sq = r1_squared(a.N)
@@ -574,6 +602,10 @@ def _run(argv) -> int:
     if not getattr(a, "func", None):
         parser.print_help()
         return 2
+    if hasattr(a, "tau_default"):
+        a.tau_given = a.tau is not None
+        if a.tau is None:
+            a.tau = a.tau_default
     if getattr(a, "taus", "absent") is None:
         a.taus = [a.tau]
     return a.func(a)

@@ -8,10 +8,10 @@ from typing import Iterator
 
 import numpy as np
 
-from ._arrays import as_float_array, ptr
+from ._arrays import as_float_array, check_memory, ptr
 from ._errors import FputlabError, IntegrationError, check
 from ._native import ffi, lib
-from .lattice import Lattice, _int, _real
+from .lattice import C_LONG, Lattice, _int, _real
 
 
 def methods() -> list[str]:
@@ -23,6 +23,8 @@ def method_info(method: str) -> dict:
     """{'order': int, 'adaptive': bool} for a method name."""
     if not isinstance(method, str):
         raise TypeError(f"method must be a string, got {type(method).__name__}")
+    if "\x00" in method:
+        raise ValueError(f"method {method!r} is unknown (it contains a NUL character)")
     order, adaptive = ffi.new("int *"), ffi.new("int *")
     check(lib.fpl_method_info(method.encode(), order, adaptive))
     return {"order": order[0], "adaptive": bool(adaptive[0])}
@@ -50,7 +52,7 @@ class Integrator:
         elif self.adaptive:
             opt.dt = 0.0
         opt.rtol, opt.atol = _real(rtol, "rtol"), _real(atol, "atol")
-        opt.max_steps = _int(max_steps, "max_steps")
+        opt.max_steps = _int(max_steps, "max_steps", C_LONG)
         self.dt = opt.dt
         out = ffi.new("fpl_integrator **")
         check(lib.fpl_integrator_create(lattice._h, method.encode(), n_dev, opt,
@@ -89,7 +91,7 @@ class Integrator:
         """Continue from a checkpoint (steps, t, state) of an integrator made with the same
         lattice, method, options and t0: bit-for-bit for fixed-step methods."""
         y = as_float_array(state, "state", self._shape)
-        self._check(lib.fpl_integrator_restore(self._h, _int(steps, "steps"), _real(t, "t"), ptr(y)))
+        self._check(lib.fpl_integrator_restore(self._h, _int(steps, "steps", C_LONG), _real(t, "t"), ptr(y)))
 
     def advance(self, t: float) -> np.ndarray:
         """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
@@ -212,14 +214,36 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
             raise ValueError(f"dt must be finite and > 0 (got {dt:g})")
     elif not method_info(method)["adaptive"]:
         dt = 0.01
-    ts = _sample_times(t0, t_end, sample_every, times)
     N = lattice.N
+    fixed_step = dt is not None and not method_info(method)["adaptive"]
+    if times is None and sample_every is None and fixed_step and (t_end - t0) / 1000 < dt:
+        sample_every = dt          # the default spacing, but never below what dt can resolve
+    if times is None and sample_every is not None:
+        every = _real(sample_every, "sample_every")
+        if math.isfinite(every) and every > 0:
+            n_est = (t_end - t0) / every + 1       # memory of the samples, before any allocation
+            n_dev_est = 0 if deviations is None else np.size(deviations) // (2 * N)
+            check_memory(8.0 * n_est * (2 * N + 3 + (2 * N * (1 + n_dev_est) if store_states
+                                                     else 0)),
+                         f"{n_est:.4g} samples of a lattice of N = {N}")
+    ts = _sample_times(t0, t_end, sample_every, times)
     orbit = lattice.mode_state(1, 1.0) if y0 is None else as_float_array(y0, "y0", (2 * N,))
     if deviations is not None:
         dev = as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)
         state0 = np.concatenate([orbit[None, :], dev])
     else:
         state0 = orbit[None, :]
+    check_memory(8.0 * ts.size * (N + 2 + (state0.size if store_states else 0)),
+                 f"{ts.size} samples of a lattice of N = {N}")
+    if fixed_step and ts.size > 1:
+        # a fixed-step method only reaches multiples of dt: samples closer than dt would repeat
+        # the same grid state under different times
+        gaps = np.diff(np.concatenate([[t0], ts]))
+        small = gaps[gaps > 0]
+        if small.size and small.min() < dt * (1 - 1e-9):
+            raise ValueError(f"dt = {dt:g} is larger than the sample spacing {small.min():g}: a "
+                             "fixed-step method only reaches multiples of dt (use a smaller dt or "
+                             "sample less often)")
     from .blowup import set_criteria
     set_criteria(lattice, stop_on)
     try:

@@ -27,7 +27,7 @@ from ._arrays import as_float_array, ptr
 from ._errors import FputlabError, check
 from ._native import ffi, lib
 from .integrate import Integrator, method_info
-from .lattice import Lattice, _int, _real
+from .lattice import C_LONG, C_U64, Lattice, _int, _real
 
 #: how a run ended, as written to the file's `status` attribute
 STATUSES = ("running", "completed", "event", "failed", "interrupted")
@@ -198,7 +198,7 @@ class RunSummary:
 
 def _check_every(steps, seconds):
     if steps is not None:
-        steps = _int(steps, "checkpoint_every_steps")
+        steps = _int(steps, "checkpoint_every_steps", C_LONG)
         if steps < 1:
             raise ValueError(f"checkpoint_every_steps must be >= 1 (got {steps})")
     if seconds is not None:
@@ -292,6 +292,8 @@ def _verify_resume(out, lattice: Lattice, info: _RunInfo, checkpoint) -> None:
     if pid == 0:                                     # child: C only, then _exit
         try:
             os.close(rfd)
+            import faulthandler
+            faulthandler.disable()                   # a crash here is reported by the parent
             signal.signal(signal.SIGINT, signal.SIG_DFL)
             signal.signal(signal.SIGTERM, signal.SIG_DFL)
             st = lib.fpl_results_verify(out_b, lattice._h, info.c, ck_b)
@@ -380,10 +382,16 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     if dt is None and not adaptive:
         dt = 0.01
     every = t_end / 1000 if sample_every is None else _real(sample_every, "sample_every")
+    if sample_every is None and not adaptive:
+        every = max(every, _real(dt, "dt"))    # never below what a fixed step can resolve
     if not (math.isfinite(every) and every > 0):
         raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
+    if not adaptive and every < _real(dt, "dt") * (1 - 1e-9):
+        raise ValueError(f"dt = {dt:g} is larger than the sample spacing {every:g}: a fixed-step "
+                         "method only reaches multiples of dt (use a smaller dt or sample less "
+                         "often)")
     k_steps, k_seconds = _check_every(checkpoint_every_steps, checkpoint_every_seconds)
-    max_steps_per_segment = _int(max_steps_per_segment, "max_steps_per_segment")
+    max_steps_per_segment = _int(max_steps_per_segment, "max_steps_per_segment", C_LONG)
     if max_steps_per_segment < 1:
         raise ValueError(f"max_steps_per_segment must be >= 1 (got {max_steps_per_segment})")
     chunk_rows = _int(chunk_rows, "chunk_rows")
@@ -521,7 +529,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
     copt.t_end, copt.renorm_interval = t_end, _real(renorm_interval, "renorm_interval")
     copt.n_samples, copt.n_dev = _int(n_samples, "n_samples"), _int(n_dev, "n_dev")
     copt.sali_threshold = _real(sali_threshold, "sali_threshold")
-    copt.stop_when_chaotic, copt.seed = int(bool(stop_when_chaotic)), _int(seed, "seed")
+    copt.stop_when_chaotic, copt.seed = int(bool(stop_when_chaotic)), _int(seed, "seed", C_U64)
     out_h = ffi.new("fpl_chaos **")
     check(lib.fpl_chaos_create(lattice._h, method.encode(), iopt, 0.0, ptr(orbit), ffi.NULL, copt,
                                out_h))

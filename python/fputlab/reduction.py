@@ -30,7 +30,7 @@ import numpy as np
 from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
-from .lattice import DISORDERS, Lattice, _int, _model_code, _real
+from .lattice import C_U64, DISORDERS, Lattice, _int, _model_code, _real
 
 #: order of the raw coefficients everywhere (mode-1 equation a, mode-2 equation b)
 COEFFICIENT_NAMES = ("a1", "a2", "a3", "b1", "b2", "b3")
@@ -100,7 +100,7 @@ def _draws(N: int, seeds, kind: str) -> np.ndarray:
     """Standardised draws z (R, N) from GSL mt19937, one seed per realisation (as draw_disorder)."""
     if kind not in DISORDERS:
         raise ValueError(f"disorder {kind!r} is unknown (known: {', '.join(DISORDERS)})")
-    seeds = [_int(s, "seed") for s in seeds]
+    seeds = [_int(s, "seed", C_U64) for s in seeds]
     z = np.empty((len(seeds), N))
     for r, s in enumerate(seeds):
         if s < 0 or s >= 2**64:
@@ -302,7 +302,7 @@ def realisation_quadratics(N: int = 64, alpha: float = 0.25, R: int = 100, *, se
     N, R = _int(N, "N"), _int(R, "R")
     if R < 1:
         raise ValueError(f"R must be >= 1 (got {R})")
-    seeds = np.arange(_int(seed0, "seed0"), _int(seed0, "seed0") + R)
+    seeds = np.arange(_int(seed0, "seed0", C_U64), _int(seed0, "seed0", C_U64) + R)
     z = _draws(N, seeds, kind)
     diag, off = quadratic_forms(N, alpha)
     g = diag.copy()                     # M 1
@@ -354,7 +354,7 @@ def ensemble_statistics(tau, N: int = 64, alpha: float = 0.25, R: int = 100, *, 
     taus = as_float_array(tau, "tau")
     if taus.ndim != 1 or not np.all(np.isfinite(taus)) or np.any(taus < 0):
         raise ValueError("tau must be a 1-D array of finite values >= 0")
-    z = _draws(N, range(_int(seed0, "seed0"), _int(seed0, "seed0") + R), kind)
+    z = _draws(N, range(_int(seed0, "seed0", C_U64), _int(seed0, "seed0", C_U64) + R), kind)
     code, alpha = _model_code(model), _real(alpha, "alpha")
     sA, sB = _tilde_scales(N)
     At, Bt = np.empty((R, taus.size)), np.empty((R, taus.size))

@@ -389,3 +389,163 @@ def test_blowup_without_blowup_prints_null_time(capsys):
     assert main(["blowup", "--tau", "0", "--t-max", "100", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["blew_up"] is False and out["time"] is None
+
+
+def test_resume_check_survives_a_crash_or_hang_inside_libhdf5(tmp_path, monkeypatch):
+    """The read-back before a resume runs in a child process: a fault there (here simulated:
+    SIGSEGV, an endless loop) is an OSError, the files are untouched, this process lives on."""
+    import signal
+    import time
+
+    import fputlab.io as io
+    out, ck = tmp_path / "r.h5", tmp_path / "r.ckpt"
+    simulate_to_file(lat8(), 50.0, out, checkpoint=ck)
+    before = sha(out), sha(ck)
+
+    class Crashing:
+        def __getattr__(self, name):
+            return getattr(io.lib.__class__, name, None) or getattr(real, name)
+
+        def fpl_results_verify(self, *args):
+            os.kill(os.getpid(), signal.SIGSEGV)
+
+    class Hanging(Crashing):
+        def fpl_results_verify(self, *args):
+            while True:
+                time.sleep(1)
+
+    real = io.lib
+    monkeypatch.setattr(io, "lib", Crashing())
+    with pytest.raises(OSError, match="SIGSEGV"):
+        simulate_to_file(lat8(), 60.0, out, checkpoint=ck)
+    monkeypatch.setattr(io, "lib", Hanging())
+    monkeypatch.setattr(io, "VERIFY_TIMEOUT", 1.0)
+    with pytest.raises(OSError, match="did not finish"):
+        simulate_to_file(lat8(), 60.0, out, checkpoint=ck)
+    assert (sha(out), sha(ck)) == before
+
+
+# ---- 10. parameters are read-only ----------------------------------------------------------------
+
+def test_lattice_parameters_are_read_only():
+    lat = fputlab.Lattice(4096, 0.25, "nonlinear", tau=10, seed=1)
+    for name, value in (("N", 2), ("alpha", 1.0), ("beta", 1.0), ("tau", 0.0), ("seed", 2),
+                        ("model", "homogeneous"), ("model_code", 1), ("disorder", "uniform")):
+        with pytest.raises(AttributeError, match=f"{name} is read-only"):
+            setattr(lat, name, value)
+    with pytest.raises(AttributeError):
+        del lat.alpha
+    assert lat.N == 4096 and lat.alpha == 0.25 and lat.force(np.zeros(4096)).shape == (4096,)
+    import pickle
+    back = pickle.loads(pickle.dumps(lat))       # rebuilt lattices keep their description
+    assert back.tau == 10 and back.seed == 1 and back.v.tobytes() == lat.v.tobytes()
+
+
+# ---- 11. quiet acceptance of bad input ------------------------------------------------------------
+
+def test_bad_input_that_used_to_pass_quietly(capsys):
+    lat = lat8()
+    with pytest.raises(ValueError, match="method"):
+        lat.integrate(1.0, method="yoshida4\x00junk")
+    with pytest.raises(ValueError, match="method"):
+        fputlab.chaos.lyapunov(lat, 10.0, method="yoshida4\x00junk")
+    with pytest.raises(TypeError, match="mode k"):
+        lat.integrate(10.0, stop_on=[("mode_energy", 1.0, 1.7)])
+    with pytest.raises(ValueError, match="disorder"):
+        fputlab.Lattice(8, 0.25, "nonlinear", disorder="cauchy")
+    with pytest.raises(ValueError, match="realisations"):
+        fputlab.blowup.blowup_sweep([10.0], realisations=0, t_max=1.0)
+    with pytest.raises(ValueError, match="taus"):
+        fputlab.blowup.blowup_sweep([], realisations=2, t_max=1.0)
+    with pytest.raises(ValueError, match="realisations"):
+        fputlab.chaos.chaotic_fraction(Ns=[4], realisations=0, t_end=1.0)
+    with pytest.raises(ValueError, match="Ns"):
+        fputlab.chaos.chaotic_fraction(Ns=[], realisations=2, t_end=1.0)
+    for args, word in ((["simulate", "--model", "homogeneous", "--tau", "10", "--t-end", "1"], "--tau"),
+                       (["chaos", "--model", "homogeneous", "--tau", "5", "--t-end", "1"], "--tau"),
+                       (["blowup", "--realisations", "0", "--t-max", "1"], "--realisations"),
+                       (["chaos", "--realisations", "0", "--t-end", "1"], "--realisations"),
+                       (["figures", "--only", "99"], "99"),
+                       (["bifurcation", "--N", "-5"], "--N")):
+        assert main(args) == 2, args
+        assert word in capsys.readouterr().err
+    assert main(["simulate", "--model", "homogeneous", "--tau", "0", "--t-end", "1"]) == 0
+    assert main(["simulate", "--model", "homogeneous", "--t-end", "1"]) == 0
+
+
+# ---- 6, 9. limits --------------------------------------------------------------------------------
+
+def test_memory_is_estimated_before_allocating(capsys):
+    with pytest.raises(MemoryError, match=r"N = 1000000000.*bytes"):
+        fputlab.Lattice(10**9)
+    assert main(["simulate", "--N", "1000000000"]) == 2
+    err = capsys.readouterr().err
+    assert "N = 1000000000" in err and "bytes" in err
+    lat = fputlab.Lattice(1000)
+    with pytest.raises(MemoryError, match="samples"):
+        lat.integrate(1e9, sample_every=0.01)          # 1e11 samples of 1000 mode energies
+
+
+def test_unbounded_work_and_big_integers_are_refused():
+    lat = lat8()
+    with pytest.raises(ValueError, match="renorm_interval"):
+        fputlab.chaos.lyapunov(lat, 10.0, renorm_interval=1e-300)
+    with pytest.raises(ValueError, match="t_end"):
+        fputlab.chaos.lyapunov(lat, 1e300)
+    with pytest.raises(ValueError, match="max_steps_per_segment"):
+        simulate_to_file(lat, 10.0, "/nonexistent/x.h5", max_steps_per_segment=0)
+    with pytest.raises(ValueError, match="segment"):
+        chaos_to_file(lat, 10.0, "/nonexistent/x.h5", segment=0.0)
+    with pytest.raises(ValueError, match="segment"):
+        chaos_to_file(lat, 10.0, "/nonexistent/x.h5", segment=-1.0)
+    with pytest.raises(ValueError, match="sample spacing"):
+        lat.integrate(10.0, dt=1.0, sample_every=0.1)
+    with pytest.raises(ValueError, match="sample spacing"):
+        simulate_to_file(lat, 10.0, "/nonexistent/x.h5", dt=1.0, sample_every=0.1)
+    run = lat.integrate(0.5)                           # the default spacing respects dt
+    assert np.all(np.diff(run.t) >= 0.01 - 1e-15) and run.completed
+    for call, word in ((lambda: fputlab.Lattice(3_000_000_000), "N"),
+                       (lambda: lat.mode_state(k=2**40), "k"),
+                       (lambda: fputlab.chaos.lyapunov(lat, 10.0, n_samples=2**40), "n_samples"),
+                       (lambda: fputlab.chaos.lyapunov(lat, 10.0, n_dev=2**33), "n_dev")):
+        with pytest.raises(ValueError, match=word):
+            call()
+
+
+# ---- 8. pool workers die with their parent -------------------------------------------------------
+
+POOL_PARENT = r"""
+import os, sys, time
+from fputlab.ensemble import process_pool
+def pid(_):
+    return os.getpid()
+if __name__ == "__main__":
+    pool = process_pool(2)
+    pids = set(pool.map(pid, range(8)))
+    print(" ".join(map(str, pids)), flush=True)
+    time.sleep(600)
+"""
+
+
+@pytest.mark.parametrize("how", ["SIGKILL", "SIGTERM"])
+def test_sweep_pool_workers_die_with_their_parent(tmp_path, how):
+    import signal
+    import time
+    script = tmp_path / "parent.py"
+    script.write_text(POOL_PARENT)
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    workers = [int(p) for p in proc.stdout.readline().split()]
+    assert workers
+    proc.send_signal(getattr(signal, how))
+    proc.wait(timeout=60)
+
+    def alive(pid):
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                return f.read().split()[2] != "Z"
+        except FileNotFoundError:
+            return False
+    deadline = time.monotonic() + 30
+    while any(alive(p) for p in workers) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not any(alive(p) for p in workers)
