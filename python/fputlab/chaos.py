@@ -50,20 +50,31 @@ class ChaosResult:
         return "regular" if lt[-1] <= 3.0 * max(lt[0], 1.0) + 2 * math.log(10) else "undecided"
 
 
-def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res) -> int:
-    """fpl_chaos_run through the resumable handle, 100 segments, a tqdm bar between them."""
+def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res, progress=True) -> int:
+    """fpl_chaos_run through the resumable handle in segments of ~0.2 s (pauses fall on
+    renormalisation times, so the numbers are those of one call; Ctrl-C is seen between
+    segments), with a tqdm bar if `progress`."""
+    import time
+
     from tqdm import tqdm
+
+    from ._errors import Pacer, first_span
     out = ffi.new("fpl_chaos **")
     status = lib.fpl_chaos_create(lattice._h, method.encode(), io, t0, ptr(y), w, co, out)
     if status < 0:
         return status
     c = ffi.gc(out[0], lambda h: lib.fpl_chaos_free(ffi.new("fpl_chaos **", h)))
     span = co.t_end - t0
-    with tqdm(total=span, desc=f"chaos N={lattice.N}", unit="t", disable=None,
+    pacer = Pacer(max(first_span(io.dt or None, lattice.N, co.n_dev), co.renorm_interval))
+    with tqdm(total=span, desc=f"chaos N={lattice.N}", unit="t", disable=None if progress else True,
               bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
-        for k in range(1, 101):
-            status = lib.fpl_chaos_advance(c, t0 + span * k / 100, *(ptr(a) for a in arrays))
+        target = t0
+        while target < co.t_end:
+            target = min(co.t_end, target + pacer.span)
+            before, clock = res.t_final, time.perf_counter()
+            status = lib.fpl_chaos_advance(c, target, *(ptr(a) for a in arrays))
             lib.fpl_chaos_get_result(c, res)
+            pacer.record(res.t_final - before, time.perf_counter() - clock)
             bar.update(res.t_final - t0 - bar.n)
             if status < 0 or lib.fpl_chaos_done(c):
                 break
@@ -112,18 +123,22 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     S = max(co.n_samples, 1)
     t, mle, sali, gali = (np.full(S, np.nan) for _ in range(4))
     res = ffi.new("fpl_chaos_result *")
-    if progress:
+    interrupted = False
+    try:
         status = _run_with_progress(lattice, method, io, _real(t0, "t0"), y, w, co,
-                                    (t, mle, sali, gali), res)
-    else:
-        status = lib.fpl_chaos_run(lattice._h, method.encode(), io, _real(t0, "t0"), ptr(y), w, co,
-                                   ptr(t), ptr(mle), ptr(sali), ptr(gali), res)
+                                    (t, mle, sali, gali), res, progress)
+    except KeyboardInterrupt:            # keep what was computed (Interrupted.result)
+        interrupted, status = True, 0
     k = res.n_samples
     out = ChaosResult(t=t[:k], mle=mle[:k], sali=sali[:k], gali=gali[:k], chaotic=bool(res.chaotic),
                       t_chaotic=res.t_chaotic, t_final=res.t_final, steps=res.steps, method=method,
                       params={"N": N, "model": lattice.model, "tau": lattice.tau,
                               "seed": lattice.seed, "t_end": t_end, "dt": io.dt,
                               "renorm_interval": renorm_interval})
+    if interrupted:
+        from ._errors import Interrupted
+        out.completed, out.message = False, f"interrupted (Ctrl-C) at t = {res.t_final:.10g}"
+        raise Interrupted(out.message, out)
     if status < 0:
         try:
             check(status)

@@ -190,13 +190,19 @@ def cmd_simulate(a):
                              **_integrator_kwargs(a), **_checkpoint_kwargs(a))
         _emit({"lattice": repr(lat), "method": a.method, **_run_summary(s)}, a.json)
         return {"completed": 0, "event": 0, "interrupted": 130}.get(s.status, 1)
-    run = lat.integrate(a.t_end, method=a.method, sample_every=a.sample_every,
-                        store_states=a.states, on_failure="return", progress=not a.json,
-                        **_integrator_kwargs(a))
+    from ._errors import Interrupted
+    try:
+        run = lat.integrate(a.t_end, method=a.method, sample_every=a.sample_every,
+                            store_states=a.states, on_failure="return", progress=not a.json,
+                            **_integrator_kwargs(a))
+    except Interrupted as err:          # Ctrl-C: the summary of what was computed, exit 130
+        run = err.result
     summary = {"lattice": repr(lat), "method": a.method, "t_reached": float(run.t[-1]) if run.t.size else 0.0,
                "samples": int(run.t.size), "completed": run.completed, "message": run.message,
                "max_relative_energy_error": float(run.relative_energy_error.max()) if run.t.size else None}
     _emit(summary, a.json)
+    if run.message.startswith("interrupted"):
+        return 130
     return 0 if run.completed else 1
 
 
@@ -268,10 +274,17 @@ def cmd_chaos(a):
                           overwrite=a.overwrite, **_checkpoint_kwargs(a))
         _emit(_run_summary(s), a.json)
         return {"completed": 0, "interrupted": 130}.get(s.status, 1)
-    res = lyapunov(_lattice(a), a.t_end, method=a.method, progress=not a.json, **opts)
-    _emit({"mle": res.mle_final, "sali": float(res.sali[-1]) if res.sali.size else None,
-           "class": res.classify(), "t_final": res.t_final, "steps": res.steps}, a.json)
-    return 0
+    from ._errors import Interrupted
+    try:
+        res = lyapunov(_lattice(a), a.t_end, method=a.method, progress=not a.json, **opts)
+    except Interrupted as err:          # Ctrl-C: the summary of what was computed, exit 130
+        res = err.result
+    summary = {"mle": res.mle_final, "sali": float(res.sali[-1]) if res.sali.size else None,
+               "class": res.classify(), "t_final": res.t_final, "steps": res.steps}
+    if res.message:
+        summary["message"] = res.message
+    _emit(summary, a.json)
+    return 130 if res.message.startswith("interrupted") else 0
 
 
 def cmd_figures(a):

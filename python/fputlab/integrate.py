@@ -256,6 +256,9 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
 
 def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
                on_failure, progress=False):
+    import time
+
+    from ._errors import Interrupted, Pacer, first_span
     N = lattice.N
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
     parts = {"t": [], "ek": [], "en": [], "st": []}
@@ -263,29 +266,58 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
     bar = None
     if progress:
         from tqdm import tqdm
-        chunk = max(1, min(chunk, ts.size // 100))
         bar = tqdm(total=float(ts[-1] - t0), desc=f"integrate N={N}", unit="t", disable=None,
                    bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
-    for start in range(0, ts.size, chunk):
-        block = ts[start:start + chunk]
-        try:
-            k, st, ek, en = integ.sample(block, states=store_states)
-        except FputlabError as err:
-            if not hasattr(err, "partial"):
-                raise
-            k, st, ek, en = err.partial
-            completed, message, status = False, str(err), err.status
-        parts["t"].append(block[:k])
-        parts["ek"].append(ek[:k])
-        parts["en"].append(en[:k])
-        if store_states:
-            parts["st"].append(st[:k])
-        if bar is not None and k:
-            bar.update(float(block[k - 1] - t0) - bar.n)
-        if not completed or integ.last_status == lib.FPL_EVENT:
-            break
-    if bar is not None:
-        bar.close()
+    # Segments of ~0.2 s (C calls do not see Ctrl-C): blocks of samples, and for fixed-step
+    # methods also pieces of a long gap before a sample (grid states do not depend on pauses).
+    pacer = Pacer(first_span(dt, N, integ.n_dev))
+    can_pause = not integ.adaptive
+    event_hit, interrupted = False, False
+    start = 0
+    try:
+        while start < ts.size:
+            while can_pause and ts[start] - integ.t > pacer.span:
+                t_before, clock = integ.t, time.perf_counter()
+                integ.advance(integ.t + pacer.span)
+                pacer.record(integ.t - t_before, time.perf_counter() - clock)
+                if bar is not None:
+                    bar.update(float(integ.t - t0) - bar.n)
+                if integ.event:
+                    event_hit = True
+                    break
+            if event_hit:
+                break
+            limit = min(ts.size, start + chunk)
+            stop = start + 1 + int(np.searchsorted(ts[start + 1:limit], integ.t + pacer.span,
+                                                   side="right"))
+            block = ts[start:stop]
+            t_before, clock = integ.t, time.perf_counter()
+            try:
+                k, st, ek, en = integ.sample(block, states=store_states)
+            except FputlabError as err:
+                if not hasattr(err, "partial"):
+                    raise
+                k, st, ek, en = err.partial
+                completed, message, status = False, str(err), err.status
+            pacer.record(integ.t - t_before, time.perf_counter() - clock)
+            parts["t"].append(block[:k])
+            parts["ek"].append(ek[:k])
+            parts["en"].append(en[:k])
+            if store_states:
+                parts["st"].append(st[:k])
+            if bar is not None and k:
+                bar.update(float(block[k - 1] - t0) - bar.n)
+            start = stop
+            if not completed or integ.last_status == lib.FPL_EVENT:
+                break
+    except FputlabError as err:          # NaN/Inf or a back end giving up between samples
+        completed, message, status = False, str(err), err.status
+    except KeyboardInterrupt:
+        interrupted, completed = True, False
+        message = f"interrupted (Ctrl-C) at t = {integ.t:.10g}"
+    finally:
+        if bar is not None:
+            bar.close()
     cat = lambda xs, shape: np.concatenate(xs) if xs else np.empty(shape)
     states = cat(parts["st"], (0, 1 + integ.n_dev, 2 * N)) if store_states else None
     if states is not None and integ.n_dev == 0:
@@ -295,6 +327,8 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
               dt=dt if dt is not None else float("nan"), completed=completed, message=message,
               y0=orbit.copy(), counters=integ.counters, event=integ.event,
               final_state=integ.state if integ.n_dev else integ.state[0])
+    if interrupted:
+        raise Interrupted(message, run)
     if not completed and on_failure == "raise":
         raise IntegrationError(message, status, run)
     return run

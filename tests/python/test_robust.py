@@ -549,3 +549,55 @@ def test_sweep_pool_workers_die_with_their_parent(tmp_path, how):
     while any(alive(p) for p in workers) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert not any(alive(p) for p in workers)
+
+
+# ---- 7. Ctrl-C during long C calls ---------------------------------------------------------------
+
+INTERRUPT = r"""
+import sys, fputlab
+what = sys.argv[1]
+lat = fputlab.Lattice(64, 0.25)
+print("start", flush=True)
+try:
+    if what == "integrate":
+        lat.integrate(3e8)                         # hours in one C call before
+    elif what == "lyapunov":
+        fputlab.chaos.lyapunov(lat, 3e8)
+    else:
+        fputlab.blowup.blowup_time(lat, 3e8)
+except fputlab.Interrupted as err:
+    r = err.result
+    # integrate: samples so far (here only t = 0) and the state where it stopped, t in message
+    t = (float(r.message.rsplit("=", 1)[1]) if what == "integrate" else
+         r.t_final if what == "lyapunov" else r.t_reached)
+    print("interrupted", type(r).__name__, r.completed if what != "blowup" else r.blew_up, t > 0,
+          flush=True)
+"""
+
+
+def _interrupt(cmd):
+    import signal
+    import time
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if cmd[1] == "-c":
+        assert proc.stdout.readline().strip() == "start"
+    time.sleep(1.5)
+    proc.send_signal(signal.SIGINT)
+    # the whole computation takes hours: finishing at all means the interrupt was seen
+    out, err = proc.communicate(timeout=60)
+    return proc.returncode, out, err
+
+
+@pytest.mark.parametrize("what,kind", [("integrate", "Run"), ("lyapunov", "ChaosResult"),
+                                       ("blowup", "Blowup")])
+def test_ctrl_c_stops_long_computations_and_keeps_the_result(what, kind):
+    code, out, err = _interrupt([sys.executable, "-c", INTERRUPT, what])
+    assert code == 0 and out.split() == ["interrupted", kind, "False", "True"], (out, err)
+
+
+def test_ctrl_c_in_the_cli_prints_what_was_computed_and_exits_130():
+    code, out, err = _interrupt([sys.executable, "-m", "fputlab", "simulate", "--N", "64",
+                                 "--t-end", "3e8", "--json"])
+    assert code == 130, err
+    s = json.loads(out)
+    assert s["completed"] is False and "interrupted" in s["message"] and s["samples"] >= 1
