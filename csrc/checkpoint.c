@@ -99,6 +99,20 @@ static unsigned char *slurp(const char *path, long *len, int *too_big)
     return b;
 }
 
+static void format_header(char *hdr, long len, unsigned long long sum)
+{
+    memset(hdr, 0, USERBLOCK);
+    snprintf(hdr, USERBLOCK, MAGIC "size %ld\nfnv1a64 %016llx\n", len, sum);
+}
+
+/* The whole user block is exactly the header of these values (text, then zeros). */
+static int header_is(const char *hdr, long len, unsigned long long sum)
+{
+    char want[USERBLOCK];
+    format_header(want, len, sum);
+    return memcmp(hdr, want, USERBLOCK) == 0;
+}
+
 /* Stamp the user block of a freshly written checkpoint with its size and checksum. */
 static int stamp(const char *tmp)
 {
@@ -110,9 +124,7 @@ static int stamp(const char *tmp)
         return -1;
     }
     char hdr[USERBLOCK];
-    memset(hdr, 0, sizeof hdr);
-    snprintf(hdr, sizeof hdr, MAGIC "size %ld\nfnv1a64 %016llx\n", len,
-             bytes_hash(b + USERBLOCK, (size_t)(len - USERBLOCK)));
+    format_header(hdr, len, bytes_hash(b + USERBLOCK, (size_t)(len - USERBLOCK)));
     free(b);
     int fd = open(tmp, O_WRONLY);
     if (fd < 0) return -1;
@@ -141,6 +153,8 @@ int fpl_checkpoint_verify_bytes(const char *path)
         sscanf(hdr + strlen(MAGIC), "size %ld\nfnv1a64 %llx", &size, &sum) != 2)
         st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt or not an fputlab checkpoint "
                        "(no valid header: checksum missing)", path);
+    else if (!header_is(hdr, size, sum))
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt (its header is damaged)", path);
     else if (size != len)
         st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt: %ld bytes, its header says %ld "
                        "(truncated or extended; checksum not verifiable)", path, len, size);
