@@ -578,7 +578,9 @@ except fputlab.Interrupted as err:
 def _interrupt(cmd):
     import signal
     import time
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # SIGINT as a terminal delivers it (a test run in the background inherits it ignored)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     if cmd[1] == "-c":
         assert proc.stdout.readline().strip() == "start"
     time.sleep(1.5)
@@ -596,8 +598,9 @@ def test_ctrl_c_stops_long_computations_and_keeps_the_result(what, kind):
 
 
 def test_ctrl_c_in_the_cli_prints_what_was_computed_and_exits_130():
-    code, out, err = _interrupt([sys.executable, "-m", "fputlab", "simulate", "--N", "64",
-                                 "--t-end", "3e8", "--json"])
+    code, out, err = _interrupt([sys.executable, "-c", "import sys\nfrom fputlab.cli import main\n"
+                                 "print('start', flush=True)\nsys.exit(main(sys.argv[1:]))",
+                                 "simulate", "--N", "64", "--t-end", "3e8", "--json"])
     assert code == 130, err
     s = json.loads(out)
     assert s["completed"] is False and "interrupted" in s["message"] and s["samples"] >= 1
