@@ -615,6 +615,10 @@ class EnvelopeRun:
         return 2.0 * np.real(q * phase)
 
 
+#: envelope_run's limit on RK4 steps (each kept: about 50 bytes and a few microseconds)
+ENVELOPE_MAX_STEPS = 2e7
+
+
 def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: int = 64,
                  dT: float = 1e-3, P_max: float | None = None) -> EnvelopeRun:
     """Integrate Eq. (msfinal2) from T = 0 to T_end (either sign; physical time t = T/eps, and
@@ -633,7 +637,11 @@ def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: in
         if q.shape != (2,) or not np.all(np.isfinite(q)):
             raise ValueError(f"q0 must be 2 finite (complex) numbers, got {q0!r}")
         q1, q2 = complex(q[0]), complex(q[1])
-    n = max(1, int(math.ceil(abs(T_end) / dT - 1e-9)))
+    steps = abs(T_end) / dT
+    if steps > ENVELOPE_MAX_STEPS:      # a Python loop keeping every step: refuse, do not hang
+        raise ValueError(f"dT = {dT:g} up to |T_end| = {abs(T_end):g} means {steps:.3g} RK4 steps, "
+                         f"more than {ENVELOPE_MAX_STEPS:.0e}: use a larger dT")
+    n = max(1, int(math.ceil(steps - 1e-9)))
     h = T_end / n if T_end != 0 else 0.0
     P_lim = math.inf if P_max is None else _finite_real(P_max, "P_max")
 

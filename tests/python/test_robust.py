@@ -498,6 +498,8 @@ def test_unbounded_work_and_big_integers_are_refused():
         chaos_to_file(lat, 10.0, "/nonexistent/x.h5", segment=0.0)
     with pytest.raises(ValueError, match="segment"):
         chaos_to_file(lat, 10.0, "/nonexistent/x.h5", segment=-1.0)
+    with pytest.raises(ValueError, match="dT"):
+        fputlab.reduction.envelope_run(3.6, 0.9, 100.0, dT=1e-12)
     with pytest.raises(ValueError, match="sample spacing"):
         lat.integrate(10.0, dt=1.0, sample_every=0.1)
     with pytest.raises(ValueError, match="sample spacing"):
