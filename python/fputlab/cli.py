@@ -20,14 +20,15 @@ def _lattice_args(p, model="nonlinear", tau=10.0, N=64):
     p.add_argument("--tau", type=float, default=None, help=f"variability in percent (default {tau:g})")
     p.set_defaults(tau_default=tau)
     p.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
-    p.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    p.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
+                   help="distribution of the disorder draws")
 
 
 def _method_args(p, dt=0.01):
     p.add_argument("--method", default="yoshida4", help="integrator (see `fputlab methods`)")
     p.add_argument("--dt", type=float, default=None, help=f"fixed step (default {dt:g})")
-    p.add_argument("--rtol", type=float, default=1e-10)
-    p.add_argument("--atol", type=float, default=1e-12)
+    p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (adaptive methods)")
+    p.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance (adaptive methods)")
 
 
 def _lattice(a):
@@ -301,9 +302,12 @@ def cmd_figures(a):
 
 def cmd_methods(a):
     from .integrate import method_info, methods
-    for m in methods():
+    names = methods()
+    width = max(len(m) for m in names)
+    print(f"{'method':{width}s}  order  kind")
+    for m in names:
         info = method_info(m)
-        print(f"{m:12s} order {info['order']}  {'adaptive' if info['adaptive'] else 'fixed step'}")
+        print(f"{m:{width}s}  {info['order']:>5d}  {'adaptive' if info['adaptive'] else 'fixed step'}")
     return 0
 
 
@@ -474,41 +478,52 @@ def build_parser():
     s = sub.add_parser("simulate", help="integrate one lattice, sample mode energies")
     _lattice_args(s)
     _method_args(s)
-    s.add_argument("--t-end", type=float, default=1e4)
-    s.add_argument("--sample-every", type=float, default=None)
+    s.add_argument("--t-end", "--t-max", dest="t_end", type=float, default=1e4, help="final time")
+    s.add_argument("--sample-every", type=float, default=None,
+                   help="sample spacing (default t_end/1000, at least dt; on resume: the "
+                        "checkpoint's)")
     s.add_argument("--states", action="store_true", help="also store the states")
     s.add_argument("--out", help="HDF5 results file, written as the run goes (see docs/hdf5.md)")
     _overwrite_arg(s)
     _checkpoint_args(s)
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_simulate)
 
     s = sub.add_parser("blowup", help="blow-up time of one realisation, or the probability over many")
     _lattice_args(s, tau=20.0)
     _method_args(s)
-    s.add_argument("--t-max", type=float, default=1e4)
+    s.add_argument("--t-max", "--t-end", dest="t_max", type=float, default=1e4,
+                   help="final time (no blow-up before it: blew_up false)")
     s.add_argument("--taus", type=float, nargs="+", default=None, help="sweep these tau values")
-    s.add_argument("--realisations", type=int, default=1)
-    s.add_argument("--workers", type=int, default=None)
-    s.add_argument("--out")
+    s.add_argument("--realisations", type=int, default=1,
+                   help="disorder realisations (seeds --seed, --seed + 1, ...)")
+    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
+    s.add_argument("--out", help="HDF5 file with the sweep (with --taus or --realisations)")
     _overwrite_arg(s)
     s.add_argument("--plot", help="PNG of the sweep: probability vs tau, blow-up times")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_blowup)
 
     s = sub.add_parser("chaos", help="mLE and SALI of one orbit, or the chaotic fraction (Fig. 14)")
     _lattice_args(s)
     _method_args(s)
-    s.add_argument("--t-end", type=float, default=1e4)
-    s.add_argument("--samples", type=int, default=200)
-    s.add_argument("--stop-when-chaotic", action="store_true")
-    s.add_argument("--realisations", type=int, default=1)
-    s.add_argument("--Ns", type=int, nargs="+", default=[4, 8, 16, 32, 64])
-    s.add_argument("--workers", type=int, default=None)
+    s.add_argument("--t-end", "--t-max", dest="t_end", type=float, default=1e4, help="final time")
+    s.add_argument("--samples", type=int, default=200,
+                   help="log-spaced samples of mLE(t), SALI(t), GALI(t)")
+    s.add_argument("--stop-when-chaotic", action="store_true",
+                   help="stop once SALI falls below its threshold")
+    s.add_argument("--realisations", type=int, default=1,
+                   help="disorder realisations per N (> 1: the chaotic fraction over --Ns)")
+    s.add_argument("--Ns", type=int, nargs="+", default=[4, 8, 16, 32, 64],
+                   help="lattice sizes of the chaotic fraction")
+    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
     s.add_argument("--out", help="HDF5 file (one orbit: written as the run goes, with checkpoints)")
     _overwrite_arg(s)
     _checkpoint_args(s)
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_chaos)
 
     s = sub.add_parser("sweep", help="realisation x tau x N ensemble (blow-up or chaos) on a local "
@@ -533,8 +548,10 @@ def build_parser():
     s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
     s.add_argument("--method", default=None, help="integrator (default yoshida4)")
     s.add_argument("--dt", type=float, default=None, help="fixed step (default 0.01)")
-    s.add_argument("--rtol", type=float, default=None)
-    s.add_argument("--atol", type=float, default=None)
+    s.add_argument("--rtol", type=float, default=None,
+                   help="relative tolerance, adaptive methods (default 1e-10)")
+    s.add_argument("--atol", type=float, default=None,
+                   help="absolute tolerance, adaptive methods (default 1e-12)")
     s.add_argument("--samples", type=int, default=None,
                    help="chaos: log-spaced samples of mLE(t), SALI(t) (default 200)")
     s.add_argument("--out", default="sweep.h5", help="merged HDF5 file (default sweep.h5)")
@@ -543,7 +560,8 @@ def build_parser():
     s.add_argument("--scheduler", default=None,
                    help="Dask scheduler address tcp://host:port (default: local processes)")
     s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_sweep)
 
     s = sub.add_parser("coefficients", help="two-mode coefficients a_i, b_i (raw) and A_i, B_i, "
@@ -556,10 +574,12 @@ def build_parser():
     s.add_argument("--taus", type=float, nargs="+", default=None,
                    help="several variabilities (same seed, hence the same draws z)")
     s.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
-    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
+                   help="distribution of the disorder draws")
     s.add_argument("--out", help="HDF5 file to write")
     _overwrite_arg(s)
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_coefficients)
 
     s = sub.add_parser("tauc", help="critical variability tau_c (B~ = 0) three ways: exact "
@@ -569,10 +589,12 @@ def build_parser():
     s.add_argument("--R", "--realisations", dest="R", type=int, default=100,
                    help="realisations (default 100, as the paper)")
     s.add_argument("--first-seed", type=int, default=1, help="seeds first..first+R-1 (default 1)")
-    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
+                   help="distribution of the disorder draws")
     s.add_argument("--fit-taus", type=float, nargs="+", default=None,
                    help="tau grid of the fit (default 0, 0.5, ..., 20)")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.add_argument("--out", help="HDF5 file with the summary")
     _overwrite_arg(s)
     s.set_defaults(func=cmd_tauc)
@@ -586,7 +608,8 @@ def build_parser():
     s.add_argument("--N", type=int, default=64,
                    help="particles: r_1^2 = (N+1)/8 of the paper's initial state (default 64)")
     s.add_argument("--plot", help="PNG of the (A~, B~) bifurcation diagram (Fig. 7)")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.add_argument("--out", help="HDF5 file with the summary")
     _overwrite_arg(s)
     s.set_defaults(func=cmd_bifurcation)
@@ -599,7 +622,26 @@ def build_parser():
 
     s = sub.add_parser("methods", help="list the integrators")
     s.set_defaults(func=cmd_methods)
+    for s in sub.choices.values():
+        if s.formatter_class is argparse.HelpFormatter:
+            s.formatter_class = _DefaultsFormatter
     return p
+
+
+class _DefaultsFormatter(argparse.HelpFormatter):
+    """Every option's help ends with its default (unless the help already states it)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        default = action.default
+        if ("default" in text or not action.option_strings or default is None
+                or default is False or default is argparse.SUPPRESS):
+            return text
+        if isinstance(default, (list, tuple)):
+            default = " ".join(map(str, default))
+        elif isinstance(default, float):
+            default = f"{default:g}"
+        return f"{text} (default {str(default).replace('%', '%%')})".strip()
 
 
 def _run(argv) -> int:

@@ -606,3 +606,29 @@ def test_ctrl_c_in_the_cli_prints_what_was_computed_and_exits_130():
     assert code == 130, err
     s = json.loads(out)
     assert s["completed"] is False and "interrupted" in s["message"] and s["samples"] >= 1
+
+
+# ---- issue 16, item 6: a consistent command line -------------------------------------------------
+
+def test_every_option_shows_its_default_and_time_options_share_names(capsys):
+    import argparse
+
+    from fputlab.cli import build_parser
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, sp in sub.choices.items():
+        text = " ".join(sp.format_help().split())
+        for action in sp._actions:
+            if not action.option_strings or action.dest == "help" or action.default in (
+                    None, False, argparse.SUPPRESS):
+                continue
+            shown = action.help or ""
+            assert "default" in shown or "(default" in text.split(action.option_strings[-1], 1)[1], \
+                (name, action.option_strings)
+    for cmd in ("simulate", "chaos", "blowup", "sweep"):      # --t-end and --t-max both work
+        for opt in ("--t-end", "--t-max"):
+            assert parser.parse_args([cmd, opt, "5"]) is not None
+    assert main(["methods"]) == 0
+    rows = capsys.readouterr().out.splitlines()
+    import re
+    assert len({re.match(r"(\S+)\s+(\S+)", row).end(2) for row in rows}) == 1   # aligned
