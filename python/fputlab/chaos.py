@@ -121,6 +121,8 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
         raise ValueError(f"seed must be >= 0 (got {seed})")
     co.seed = seed
     S = max(co.n_samples, 1)
+    from ._arrays import check_memory
+    check_memory(8.0 * (4 * S + 2 * N * (n_dev + 2)), f"{S} chaos samples (N = {N}, n_dev = {n_dev})")
     t, mle, sali, gali = (np.full(S, np.nan) for _ in range(4))
     res = ffi.new("fpl_chaos_result *")
     interrupted = False

@@ -484,6 +484,9 @@ def test_memory_is_estimated_before_allocating(capsys):
     lat = fputlab.Lattice(1000)
     with pytest.raises(MemoryError, match="samples"):
         lat.integrate(1e9, sample_every=0.01)          # 1e11 samples of 1000 mode energies
+    if (fputlab._arrays.available_memory() or 0) < 60e9:
+        with pytest.raises(MemoryError, match="chaos samples"):
+            fputlab.chaos.lyapunov(lat, 10.0, n_samples=2**31 - 1)
 
 
 def test_unbounded_work_and_big_integers_are_refused():
