@@ -194,16 +194,16 @@ int fpl_resolve_target(const char *path, char *out, size_t len)
     return -1;
 }
 
-/* Remove temporary files "<path>.tmp-PID" left by processes that no longer exist (killed while
- * writing a checkpoint). */
-static void remove_stale_temporaries(const char *path)
+/* Remove temporary files "<path><tag>PID" left by processes that no longer exist (killed while
+ * writing a checkpoint, or while resuming a results file). */
+void fpl_remove_stale_temporaries(const char *path, const char *tag)
 {
     char dir[4096];
     folder_of(path, dir, sizeof dir);
     const char *slash = strrchr(path, '/');
     const char *base = slash ? slash + 1 : path;
     char prefix[4096];
-    if (snprintf(prefix, sizeof prefix, "%s.tmp-", base) >= (int)sizeof prefix) return;
+    if (snprintf(prefix, sizeof prefix, "%s%s", base, tag) >= (int)sizeof prefix) return;
     size_t np = strlen(prefix);
     DIR *d = opendir(dir);
     if (!d) return;
@@ -243,7 +243,7 @@ int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl
     if (snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid()) >= (int)sizeof tmp)
         return fpl_error(NULL, FPL_ERR_ARG, "path: file name too long");
 
-    remove_stale_temporaries(path);
+    fpl_remove_stale_temporaries(path, ".tmp-");
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     char msg[256] = "";

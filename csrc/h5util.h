@@ -63,5 +63,6 @@ int fpl_checkpoint_verify_bytes(const char *path);
  * rename onto it keeps the links; and fsync of a file by name (checkpoint.c). */
 int fpl_resolve_target(const char *path, char *out, size_t len);
 int fpl_fsync_path(const char *path);
+void fpl_remove_stale_temporaries(const char *path, const char *tag);
 
 #endif

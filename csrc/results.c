@@ -496,6 +496,7 @@ int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *i
     if (fpl_resolve_target(path, target, sizeof target) != 0)
         return fpl_error(NULL, FPL_ERR_IO, "results file %s: cannot resolve the path", path);
     snprintf(tmp, sizeof tmp, "%s.resume-%ld", target, (long)getpid());
+    fpl_remove_stale_temporaries(target, ".resume-");
     fpl_results *old = NULL, *r = NULL;
     if ((st = new_handle(lat, info, &old))) return st;
     if ((st = new_handle(lat, info, &r))) {

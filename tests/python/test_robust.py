@@ -167,14 +167,21 @@ def test_symlinked_checkpoint_stays_a_symlink_and_stale_temporaries_go(tmp_path)
     dead.wait()
     stale = real_dir / f"run.ckpt.tmp-{dead.pid}"
     stale.write_bytes(b"half a checkpoint")
+    stale_resume = tmp_path / f"run.h5.resume-{dead.pid}"      # a kill during a resume
+    stale_resume.write_bytes(b"half a results file")
+    alive = real_dir / f"run.ckpt.tmp-{os.getpid()}x"           # not a pid: not ours, kept
+    alive.write_bytes(b"someone else's")
     simulate_to_file(lat8(), 50.0, out, checkpoint=link, checkpoint_every_steps=1000,
                      checkpoint_every_seconds=None)
     assert link.is_symlink() and os.readlink(link) == str(target) and target.is_file()
-    assert not stale.exists()
+    assert not stale.exists() and alive.exists()
+    alive.unlink()
     assert not [p for p in list(tmp_path.iterdir()) + list(real_dir.iterdir())
                 if ".tmp-" in p.name]
     s = simulate_to_file(lat8(), 80.0, out, checkpoint=link, sample_every=0.05)
     assert s.resumed_from == 50.0 and s.status == "completed" and link.is_symlink()
+    assert not stale_resume.exists()
+    assert not [p for p in tmp_path.iterdir() if ".resume-" in p.name or ".tmp-" in p.name]
 
 
 # ---- 4. corrupt files ---------------------------------------------------------------------------
