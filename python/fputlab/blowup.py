@@ -75,6 +75,9 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
     y = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * lattice.N,))
     if dt is None and not method_info(method)["adaptive"]:
         dt = 0.01
+    if not method_info(method)["adaptive"]:
+        from .integrate import check_steps
+        check_steps(t_max, _real(dt, "dt"), "t_max", t_max)
     set_criteria(lattice, crit)
     try:
         integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol)

@@ -164,6 +164,14 @@ class Run:
         return np.abs(self.energy - e0) / abs(e0)
 
 
+def check_steps(span: float, dt: float | None, name: str, value: float) -> None:
+    """Refuse a fixed-step run of more than 9e18 steps (the C core's limit), before it starts:
+    run in segments it would otherwise go on for ever."""
+    if dt is not None and span / dt > 9e18:
+        raise ValueError(f"{name} = {value:g} needs {span / dt:.3g} steps of dt = {dt:g}, more "
+                         "than 9e18")
+
+
 def _sample_times(t0, t_end, sample_every, times):
     if times is not None:
         if sample_every is not None:
@@ -216,6 +224,9 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         dt = 0.01
     N = lattice.N
     fixed_step = dt is not None and not method_info(method)["adaptive"]
+    if fixed_step:
+        last = t_end if times is None else float(np.max(as_float_array(times, "times"), initial=t0))
+        check_steps(last - t0, dt, "t_end" if times is None else "times", last)
     if times is None and sample_every is None and fixed_step and (t_end - t0) / 1000 < dt:
         sample_every = dt          # the default spacing, but never below what dt can resolve
     if times is None and sample_every is not None:

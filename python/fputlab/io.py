@@ -386,6 +386,9 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
         every = max(every, _real(dt, "dt"))    # never below what a fixed step can resolve
     if not (math.isfinite(every) and every > 0):
         raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
+    if not adaptive:
+        from .integrate import check_steps
+        check_steps(t_end, _real(dt, "dt"), "t_end", t_end)
     if not adaptive and every < _real(dt, "dt") * (1 - 1e-9):
         raise ValueError(f"dt = {dt:g} is larger than the sample spacing {every:g}: a fixed-step "
                          "method only reaches multiples of dt (use a smaller dt or sample less "
