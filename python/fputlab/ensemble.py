@@ -275,6 +275,9 @@ def _die_with_parent(parent_pid: int) -> None:
     (SIGKILL included), instead of living on and holding pipes such as `| tee` open. Linux:
     prctl(PR_SET_PDEATHSIG); elsewhere a thread watching the parent."""
     import signal
+    # Ctrl-C in the terminal reaches the whole process group: the parent handles it (and stops
+    # the workers); a worker interrupted on its own would only print a traceback
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         import ctypes
         libc = ctypes.CDLL(None, use_errno=True)
@@ -294,15 +297,33 @@ def _die_with_parent(parent_pid: int) -> None:
         os._exit(1)
 
 
+class _Pool(ProcessPoolExecutor):
+    """ProcessPoolExecutor that, left by an exception (Ctrl-C included), kills its workers
+    instead of waiting for the tasks they are running."""
+
+    def terminate(self) -> None:
+        for proc in list((getattr(self, "_processes", None) or {}).values()):
+            try:
+                proc.kill()
+            except (OSError, AttributeError):
+                pass
+        self.shutdown(wait=False, cancel_futures=True)
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is not None:
+            self.terminate()
+        return super().__exit__(exc_type, exc, tb)
+
+
 def process_pool(workers: int | None = None) -> ProcessPoolExecutor:
-    """A process pool whose workers die with this process (see _die_with_parent)."""
+    """A process pool whose workers die with this process (see _die_with_parent) and are
+    stopped at once when the pool is left by an exception (Ctrl-C)."""
     if workers is not None:
         from .lattice import _int
         workers = _int(workers, "workers")
         if workers < 1:
             raise ValueError(f"workers must be >= 1 (got {workers})")
-    return ProcessPoolExecutor(max_workers=workers, initializer=_die_with_parent,
-                               initargs=(os.getpid(),))
+    return _Pool(max_workers=workers, initializer=_die_with_parent, initargs=(os.getpid(),))
 
 
 def _dask_client(scheduler):
@@ -325,8 +346,10 @@ def _run_local(todo, spec, workers):
         for fut in as_completed(futs):
             err = fut.exception()
             yield futs[fut], (None if err else fut.result()), err
-    finally:                                  # on an interrupt, drop the tasks not started
-        pool.shutdown(wait=True, cancel_futures=True)
+    except BaseException:                     # Ctrl-C, or the sweep stopped: workers go now
+        pool.terminate()
+        raise
+    pool.shutdown(wait=True)
 
 
 def _run_dask(todo, spec, scheduler):
@@ -402,6 +425,7 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
                 bar.update(1)
         finally:
             bar.close()
+            engine.close()                    # an interrupt stops the workers now
     order = {t: i for i, t in enumerate(tasks)}
     failed.sort(key=lambda f: order[f[0]])
     done = [records[t] for t in tasks if t in records]

@@ -646,3 +646,31 @@ def test_every_option_shows_its_default_and_time_options_share_names(capsys):
     rows = capsys.readouterr().out.splitlines()
     import re
     assert len({re.match(r"(\S+)\s+(\S+)", row).end(2) for row in rows}) == 1   # aligned
+
+
+def test_ctrl_c_stops_a_sweep_and_its_workers_at_once(tmp_path):
+    """Ctrl-C reaches the whole process group: the workers ignore it, the parent kills them and
+    exits 130 with one line (no worker tracebacks, no wait for the running tasks)."""
+    import signal
+    import time
+    cmd = [sys.executable, "-c", "import sys\nfrom fputlab.cli import main\nprint('start', "
+           "flush=True)\nsys.exit(main(sys.argv[1:]))", "sweep", "--realisations", "4", "--Ns",
+           "64", "--taus", "0", "--t-max", "1e7", "--out", str(tmp_path / "s.h5"), "--workers",
+           "2", "--json"]
+
+    def session():
+        os.setsid()
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=session)
+    assert proc.stdout.readline().strip() == "start"
+    time.sleep(3)
+    os.killpg(proc.pid, signal.SIGINT)                # as a terminal's Ctrl-C does
+    try:
+        _, err = proc.communicate(timeout=60)         # the tasks alone take many minutes
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    assert proc.returncode == 130 and one_line_error(err), err
