@@ -161,6 +161,10 @@ static int check_options(const fpl_chaos_options *o, double t0)
     if (!(o->renorm_interval > 0.0) || !isfinite(o->renorm_interval))
         return fpl_error(NULL, FPL_ERR_ARG, "renorm_interval must be finite and > 0 (got %g)",
                          o->renorm_interval);
+    if ((o->t_end - t0) / o->renorm_interval > 9e18)    /* unbounded work; n_renorm is a long */
+        return fpl_error(NULL, FPL_ERR_ARG, "renorm_interval = %g up to t_end = %g means %g "
+                         "renormalisations, more than 9e18", o->renorm_interval, o->t_end,
+                         (o->t_end - t0) / o->renorm_interval);
     if (o->n_samples < 1)
         return fpl_error(NULL, FPL_ERR_ARG, "n_samples must be >= 1 (got %d)", o->n_samples);
     if (!(o->t_first_sample >= 0.0) || !isfinite(o->t_first_sample))

@@ -1,9 +1,17 @@
 /* Checkpoints: the whole state of a run in one small HDF5 file, written atomically
  * (temporary file in the same folder, fsync, rename, fsync of the folder), validated strictly
- * when loaded. A checksum over the numbers that define the continuation catches corruption that
- * HDF5 itself would read without complaint. */
+ * when loaded. The file's first 512 bytes (an HDF5 user block, which HDF5 skips) hold its size
+ * and a checksum of every byte after them: a damaged or truncated checkpoint is refused before
+ * HDF5 parses a byte of it (libhdf5 can crash or loop on corrupt metadata). A second checksum
+ * over the numbers that define the continuation guards the values themselves. */
 #define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/types.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,11 +66,174 @@ static void folder_of(const char *path, char *dir, size_t len)
     else snprintf(dir, len, "%.*s", (int)(slash - path), path);
 }
 
-int fpl_checkpoint_write(const char *path, const fpl_integrator *h, const fpl_run_info *info,
+int fpl_fsync_path(const char *path) { return fsync_path(path, O_RDONLY); }
+
+/* ---- the byte checksum in the user block ------------------------------------------------- */
+#define USERBLOCK 512
+#define MAGIC "fputlab-checkpoint-bytes/1\n"
+#define MAX_CHECKPOINT_BYTES (1L << 30)
+
+static unsigned long long bytes_hash(const unsigned char *b, size_t n)
+{
+    return fpl_fnv1a(FPL_FNV_OFFSET, b, n);
+}
+
+/* Read a whole file (at most MAX_CHECKPOINT_BYTES) into a new buffer. */
+static unsigned char *slurp(const char *path, long *len, int *too_big)
+{
+    *too_big = 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    struct stat sb;
+    unsigned char *b = NULL;
+    if (fstat(fileno(fp), &sb) == 0 && S_ISREG(sb.st_mode)) {
+        if (sb.st_size > MAX_CHECKPOINT_BYTES) *too_big = 1;
+        else if ((b = malloc((size_t)sb.st_size + 1)) &&
+                 fread(b, 1, (size_t)sb.st_size, fp) != (size_t)sb.st_size) {
+            free(b);
+            b = NULL;
+        }
+        *len = (long)sb.st_size;
+    }
+    fclose(fp);
+    return b;
+}
+
+static void format_header(char *hdr, long len, unsigned long long sum)
+{
+    memset(hdr, 0, USERBLOCK);
+    snprintf(hdr, USERBLOCK, MAGIC "size %ld\nfnv1a64 %016llx\n", len, sum);
+}
+
+/* The whole user block is exactly the header of these values (text, then zeros). */
+static int header_is(const char *hdr, long len, unsigned long long sum)
+{
+    char want[USERBLOCK];
+    format_header(want, len, sum);
+    return memcmp(hdr, want, USERBLOCK) == 0;
+}
+
+/* Stamp the user block of a freshly written checkpoint with its size and checksum. */
+static int stamp(const char *tmp)
+{
+    long len = 0;
+    int too_big;
+    unsigned char *b = slurp(tmp, &len, &too_big);
+    if (!b || len < USERBLOCK) {
+        free(b);
+        return -1;
+    }
+    char hdr[USERBLOCK];
+    format_header(hdr, len, bytes_hash(b + USERBLOCK, (size_t)(len - USERBLOCK)));
+    free(b);
+    int fd = open(tmp, O_WRONLY);
+    if (fd < 0) return -1;
+    int ok = pwrite(fd, hdr, sizeof hdr, 0) == (ssize_t)sizeof hdr;
+    return close(fd) == 0 && ok ? 0 : -1;
+}
+
+int fpl_checkpoint_verify_bytes(const char *path)
+{
+    long len = 0;
+    int too_big;
+    unsigned char *b = slurp(path, &len, &too_big);
+    if (!b) {
+        if (too_big)
+            return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt: %ld bytes, more than any "
+                             "checkpoint", path, len);
+        return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s cannot be read (not a regular file?)", path);
+    }
+    int st = FPL_OK;
+    long size = -1;
+    unsigned long long sum = 0;
+    char hdr[USERBLOCK + 1];
+    memcpy(hdr, b, len < USERBLOCK ? (size_t)len : USERBLOCK);
+    hdr[len < USERBLOCK ? len : USERBLOCK] = '\0';
+    if (len < USERBLOCK || strncmp(hdr, MAGIC, strlen(MAGIC)) != 0 ||
+        sscanf(hdr + strlen(MAGIC), "size %ld\nfnv1a64 %llx", &size, &sum) != 2)
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt or not an fputlab checkpoint "
+                       "(no valid header: checksum missing)", path);
+    else if (!header_is(hdr, size, sum))
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt (its header is damaged)", path);
+    else if (size != len)
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt: %ld bytes, its header says %ld "
+                       "(truncated or extended; checksum not verifiable)", path, len, size);
+    else if (bytes_hash(b + USERBLOCK, (size_t)(len - USERBLOCK)) != sum)
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt (checksum mismatch over its "
+                       "bytes)", path);
+    free(b);
+    return st;
+}
+
+/* Where a checkpoint really goes: a symbolic link is followed (also a dangling one), so that the
+ * link stays a link and its target receives the new checkpoint. */
+int fpl_resolve_target(const char *path, char *out, size_t len)
+{
+    char cur[4096], link[4096];
+    if (snprintf(cur, sizeof cur, "%s", path) >= (int)sizeof cur) return -1;
+    for (int depth = 0; depth < 40; depth++) {
+        struct stat sb;
+        if (lstat(cur, &sb) != 0 || !S_ISLNK(sb.st_mode)) {
+            return snprintf(out, len, "%s", cur) >= (int)len ? -1 : 0;
+        }
+        ssize_t n = readlink(cur, link, sizeof link - 1);
+        if (n < 0) return -1;
+        link[n] = '\0';
+        if (link[0] == '/') {
+            memcpy(cur, link, (size_t)n + 1);
+        } else {
+            char dir[4096];
+            folder_of(cur, dir, sizeof dir);
+            char next[8192];
+            snprintf(next, sizeof next, "%s/%s", dir, link);
+            if (strlen(next) >= sizeof cur) return -1;
+            memcpy(cur, next, strlen(next) + 1);
+        }
+    }
+    errno = ELOOP;
+    return -1;
+}
+
+/* Remove temporary files "<path><tag>PID" left by processes that no longer exist (killed while
+ * writing a checkpoint, or while resuming a results file). */
+void fpl_remove_stale_temporaries(const char *path, const char *tag)
+{
+    char dir[4096];
+    folder_of(path, dir, sizeof dir);
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    char prefix[4096];
+    if (snprintf(prefix, sizeof prefix, "%s%s", base, tag) >= (int)sizeof prefix) return;
+    size_t np = strlen(prefix);
+    DIR *d = opendir(dir);
+    if (!d) return;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (strncmp(e->d_name, prefix, np) != 0) continue;
+        char *end;
+        errno = 0;
+        long pid = strtol(e->d_name + np, &end, 10);
+        if (errno || *end || end == e->d_name + np || pid <= 0 || pid > INT_MAX) continue;
+        if (pid == (long)getpid()) continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;   /* alive, or not ours */
+        char full[8192];
+        snprintf(full, sizeof full, "%s/%s", dir, e->d_name);
+        remove(full);
+    }
+    closedir(d);
+}
+
+int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl_run_info *info,
                          const double *extra, int n_extra, const fpl_results *results)
 {
+    const char *path = path_in;
     if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
     if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    char target[4096];
+    if (fpl_resolve_target(path_in, target, sizeof target) != 0)
+        return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: cannot resolve the path (symbolic link "
+                         "loop or name too long)", path_in);
+    path = target;
     if (n_extra < 0 || n_extra > FPL_CHECKPOINT_MAX_EXTRA || (n_extra > 0 && !extra))
         return fpl_error(NULL, FPL_ERR_ARG, "n_extra must be 0..%d with extra non-NULL (got %d)",
                          FPL_CHECKPOINT_MAX_EXTRA, n_extra);
@@ -72,11 +243,15 @@ int fpl_checkpoint_write(const char *path, const fpl_integrator *h, const fpl_ru
     if (snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid()) >= (int)sizeof tmp)
         return fpl_error(NULL, FPL_ERR_ARG, "path: file name too long");
 
+    fpl_remove_stale_temporaries(path, ".tmp-");
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     char msg[256] = "";
     int st = FPL_OK;
-    hid_t f = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+    hid_t f = fcpl >= 0 && H5Pset_userblock(fcpl, USERBLOCK) >= 0
+                  ? H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT) : -1;
+    if (fcpl >= 0) H5Pclose(fcpl);
     if (f < 0) {
         fpl_h5_error_text(msg, sizeof msg);
         st = fpl_error(NULL, FPL_ERR_IO, "cannot create checkpoint %s: %s", tmp, msg);
@@ -100,6 +275,11 @@ int fpl_checkpoint_write(const char *path, const fpl_integrator *h, const fpl_ru
     }
     char dir[4096];
     folder_of(path, dir, sizeof dir);
+    if (stamp(tmp) != 0) {
+        st = fpl_error(NULL, FPL_ERR_IO, "writing checkpoint %s failed: cannot stamp its checksum",
+                       tmp);
+        goto out;
+    }
     if (fsync_path(tmp, O_RDONLY) != 0 || rename(tmp, path) != 0) {
         st = fpl_error(NULL, FPL_ERR_IO, "cannot move checkpoint %s into place as %s", tmp, path);
         goto out;
@@ -116,6 +296,8 @@ static int open_checkpoint(const char *path, hid_t *f)
     if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
     if (access(path, R_OK) != 0)
         return fpl_error(NULL, FPL_ERR_IO, "checkpoint %s does not exist or is not readable", path);
+    int st = fpl_checkpoint_verify_bytes(path);
+    if (st) return st;
     *f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (*f < 0) {
         char msg[256];

@@ -1,8 +1,16 @@
 /* Results files: samples appended chunk by chunk to extendible, chunked, compressed HDF5
- * datasets (schema in docs/hdf5.md). Memory use is one chunk, whatever the length of the run. */
+ * datasets (schema in docs/hdf5.md). Memory use is one chunk, whatever the length of the run.
+ * Every chunk carries a Fletcher-32 checksum and the file uses HDF5's 1.8 format, whose
+ * superblock and object headers (attributes included) are checksummed too: a damaged file gives
+ * an error when read, not wrong numbers. (Not the 1.10 format: its superblock marks a file
+ * open for writing, and a run killed by SIGKILL would leave a file nobody can open.) Resuming
+ * reads back every row it keeps (verified) before it changes anything. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "h5util.h"
 #include <hdf5_hl.h>   /* dimension scales (H5DS) */
 #include "internal.h"
@@ -15,6 +23,7 @@ typedef struct series {
     hid_t d;
     int cols;
     long rows;      /* rows on disk */
+    unsigned long long hash;   /* FNV-1a of the bytes of those rows, in order */
 } series;
 
 enum { S_T, S_ENERGY, S_MODE_ENERGIES, S_STATES, S_COUNT };
@@ -64,7 +73,7 @@ static hid_t create_series(hid_t loc, const char *name, int cols, int chunk_rows
     hid_t space = H5Screate_simple(rank, dims, maxdims), dcpl = H5Pcreate(H5P_DATASET_CREATE);
     hid_t lcpl = H5Pcreate(H5P_LINK_CREATE), d = -1;
     if (space >= 0 && dcpl >= 0 && lcpl >= 0 && H5Pset_chunk(dcpl, rank, chunk) >= 0 &&
-        H5Pset_shuffle(dcpl) >= 0 && H5Pset_deflate(dcpl, 4) >= 0 &&
+        H5Pset_shuffle(dcpl) >= 0 && H5Pset_deflate(dcpl, 4) >= 0 && H5Pset_fletcher32(dcpl) >= 0 &&
         H5Pset_create_intermediate_group(lcpl, 1) >= 0)
         d = H5Dcreate2(loc, name, H5T_NATIVE_DOUBLE, space, lcpl, dcpl, H5P_DEFAULT);
     if (space >= 0) H5Sclose(space);
@@ -91,27 +100,11 @@ static int append_rows(series *s, const double *buf, int n, char *errbuf, size_t
     if (!ok) fpl_h5_error_text(errbuf, errlen);
     if (fs >= 0) H5Sclose(fs);
     if (ms >= 0) H5Sclose(ms);
-    if (ok) s->rows += n;
+    if (ok) {
+        s->rows += n;
+        s->hash = fpl_fnv1a(s->hash, buf, sizeof(double) * (size_t)n * (s->cols ? s->cols : 1));
+    }
     return ok ? 0 : -1;
-}
-
-static int set_rows(series *s, long rows)
-{
-    hsize_t size[2] = {(hsize_t)rows, (hsize_t)s->cols};
-    if (s->d < 0) return 0;
-    if (H5Dset_extent(s->d, size) < 0) return -1;
-    s->rows = rows;
-    return 0;
-}
-
-static long series_rows(hid_t d)
-{
-    hid_t space = H5Dget_space(d);
-    hsize_t dims[2] = {0, 0};
-    if (space < 0) return -1;
-    int ok = H5Sget_simple_extent_dims(space, dims, NULL) >= 1;
-    H5Sclose(space);
-    return ok ? (long)dims[0] : -1;
 }
 
 static void release(fpl_results *r)
@@ -156,12 +149,12 @@ static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **
     const int cols[S_COUNT] = {0, 0, lat->n, (int)r->dim};
     int bad = !(r->ek = malloc(sizeof(double) * (size_t)lat->n));
     for (int i = 0; i < S_COUNT; i++) {
-        r->s[i] = (series){-1, cols[i], 0};
+        r->s[i] = (series){-1, cols[i], 0, FPL_FNV_OFFSET};
         if (i == S_STATES && !r->store_states) continue;
         bad |= !(r->buf[i] = malloc(sizeof(double) * (size_t)r->chunk * (cols[i] ? cols[i] : 1)));
     }
     for (int i = 0; i < C_COUNT; i++) {
-        r->c[i] = (series){-1, 0, 0};
+        r->c[i] = (series){-1, 0, 0, FPL_FNV_OFFSET};
         bad |= !(r->cbuf[i] = malloc(sizeof(double) * (size_t)r->chunk));
     }
     if (bad) {
@@ -170,6 +163,31 @@ static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **
     }
     *out = r;
     return FPL_OK;
+}
+
+/* Create the file at path for handle r: description, status "running", the datasets. */
+static int create_in(fpl_results *r, const char *path, const fpl_run_info *info)
+{
+    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    r->file = fapl >= 0 && H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18) >= 0
+                  ? H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl) : -1;
+    if (fapl >= 0) H5Pclose(fapl);
+    if (r->file < 0) {
+        char msg[256];
+        fpl_h5_error_text(msg, sizeof msg);
+        return fpl_error(NULL, FPL_ERR_IO, "cannot create results file %s: %s", path, msg);
+    }
+    if (fpl_h5_write_description(r->file, SCHEMA, r->lat, info) ||
+        fpl_h5_set_string(r->file, "status", "running") ||
+        fpl_h5_set_string(r->file, "message", ""))
+        return h5_fail(r, "writing the run description");
+    for (int i = 0; i < S_COUNT; i++) {
+        if (i == S_STATES && !r->store_states) continue;
+        if ((r->s[i].d = create_series(r->file, s_names[i], r->s[i].cols, r->chunk)) < 0)
+            return h5_fail(r, "creating the datasets");
+    }
+    if (label_dimensions(r, 0)) return h5_fail(r, "labelling the dimensions");
+    return H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "flush") : FPL_OK;
 }
 
 int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *info,
@@ -184,32 +202,7 @@ int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *i
     if ((st = new_handle(lat, info, &r))) return st;
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
-    r->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (r->file < 0) {
-        char msg[256];
-        fpl_h5_error_text(msg, sizeof msg);
-        st = fpl_error(NULL, FPL_ERR_IO, "cannot create results file %s: %s", path, msg);
-        goto done;
-    }
-    if (fpl_h5_write_description(r->file, SCHEMA, lat, info) ||
-        fpl_h5_set_string(r->file, "status", "running") ||
-        fpl_h5_set_string(r->file, "message", "")) {
-        st = h5_fail(r, "writing the run description");
-        goto done;
-    }
-    for (int i = 0; i < S_COUNT; i++) {
-        if (i == S_STATES && !r->store_states) continue;
-        if ((r->s[i].d = create_series(r->file, s_names[i], r->s[i].cols, r->chunk)) < 0) {
-            st = h5_fail(r, "creating the datasets");
-            goto done;
-        }
-    }
-    if (label_dimensions(r, 0)) {
-        st = h5_fail(r, "labelling the dimensions");
-        goto done;
-    }
-    if (H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0) st = h5_fail(r, "flush");
-done:
+    st = create_in(r, path, info);
     fpl_h5_quiet_end(&q);
     if (st) {
         release(r);
@@ -244,6 +237,13 @@ int fpl_results_save_pending(const fpl_results *r, hid_t f)
               fpl_h5_set_long(f, "results_store_states", r->store_states) ||
               fpl_h5_set_long(f, "results_chunk_rows", r->chunk) ||
               fpl_h5_set_u64(f, "results_checksum", pending_hash(r));
+    /* what the rows on disk hash to: a resume reads them back and compares, so that damage
+     * HDF5 cannot see (its 1.8 chunk index has no checksum) is caught too */
+    for (int i = 0; i < S_COUNT + C_COUNT && !bad; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "results_data_hash_%d", i);
+        bad = fpl_h5_set_u64(f, name, i < S_COUNT ? r->s[i].hash : r->c[i - S_COUNT].hash);
+    }
     for (int i = 0; i < S_COUNT && !bad; i++)
         if (r->buf[i])
             bad = fpl_h5_write_vector(f, p_names[i], r->buf[i],
@@ -256,6 +256,8 @@ int fpl_results_save_pending(const fpl_results *r, hid_t f)
 /* Read the rows on disk and the pending rows of the checkpoint into r (buffers). */
 static int load_pending(fpl_results *r, const char *checkpoint, long *rows, long *crows)
 {
+    int vst = fpl_checkpoint_verify_bytes(checkpoint);
+    if (vst) return vst;
     hid_t f = H5Fopen(checkpoint, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0) {
         char msg[256];
@@ -270,6 +272,14 @@ static int load_pending(fpl_results *r, const char *checkpoint, long *rows, long
         fpl_h5_get_long(f, "results_chunk_rows", &chunk) || fpl_h5_get_u64(f, "results_checksum", &sum)) {
         st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s does not record a results file", checkpoint);
         goto out;
+    }
+    for (int i = 0; i < S_COUNT + C_COUNT; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "results_data_hash_%d", i);
+        if (fpl_h5_get_u64(f, name, i < S_COUNT ? &r->s[i].hash : &r->c[i - S_COUNT].hash)) {
+            st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: %s missing", checkpoint, name);
+            goto out;
+        }
     }
     if (store != r->store_states || chunk != r->chunk) {
         st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s was written for results with states %s and "
@@ -309,63 +319,250 @@ out:
     return st;
 }
 
-int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *info,
-                       const char *checkpoint, fpl_results **out)
+/* Read rows [at, at + n) of a series into buf. */
+static int read_block(const series *s, double *buf, long at, long n)
 {
-    if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
-    *out = NULL;
-    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
-    if (!checkpoint || !*checkpoint) return fpl_error(NULL, FPL_ERR_ARG, "checkpoint: empty file name");
-    int st = check_info(lat, info);
-    if (st) return st;
-    fpl_results *r;
-    if ((st = new_handle(lat, info, &r))) return st;
-    fpl_h5_quiet q;
-    fpl_h5_quiet_begin(&q);
-    long rows = 0, crows = 0;
-    r->file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    int rank = s->cols ? 2 : 1;
+    hsize_t start[2] = {(hsize_t)at, 0}, count[2] = {(hsize_t)n, (hsize_t)s->cols};
+    hid_t fs = H5Dget_space(s->d), ms = H5Screate_simple(rank, count, NULL);
+    int ok = fs >= 0 && ms >= 0 &&
+             H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+             H5Dread(s->d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, buf) >= 0;
+    if (fs >= 0) H5Sclose(fs);
+    if (ms >= 0) H5Sclose(ms);
+    return ok ? 0 : -1;
+}
+
+/* Read rows [0, rows) of a series back in chunk-sized blocks (HDF5 verifies each chunk's
+ * Fletcher-32 checksum) and compare their hash with the one recorded in s->hash. */
+static int read_back(const series *s, double *buf, long rows, int chunk, int *mismatch)
+{
+    unsigned long long h = FPL_FNV_OFFSET;
+    *mismatch = 0;
+    for (long at = 0; at < rows; at += chunk) {
+        long n = rows - at < chunk ? rows - at : chunk;
+        if (read_block(s, buf, at, n)) return -1;
+        h = fpl_fnv1a(h, buf, sizeof(double) * (size_t)n * (s->cols ? s->cols : 1));
+    }
+    *mismatch = h != s->hash;
+    return 0;
+}
+
+/* Shape of a series on disk: rank and columns as expected; -1 otherwise. */
+static long series_rows_checked(const series *s)
+{
+    hid_t space = H5Dget_space(s->d);
+    hsize_t dims[2] = {0, 0};
+    if (space < 0) return -1;
+    int rank = H5Sget_simple_extent_ndims(space);
+    int ok = rank == (s->cols ? 2 : 1) && H5Sget_simple_extent_dims(space, dims, NULL) == rank &&
+             (!s->cols || dims[1] == (hsize_t)s->cols);
+    H5Sclose(space);
+    return ok ? (long)dims[0] : -1;
+}
+
+/* Open `path` (read-only or read-write) for a resume from `checkpoint`: check it describes this
+ * lattice and method, read the checkpoint's pending rows, open the datasets and check their
+ * shapes and that the file holds the rows the checkpoint records. With `verify`, also read all
+ * those rows back. Nothing is changed. */
+static int open_for_resume(fpl_results *r, const char *path, unsigned mode, const fpl_run_info *info,
+                           const char *checkpoint, int verify, long *rows, long *crows)
+{
+    int st;
+    r->file = H5Fopen(path, mode, H5P_DEFAULT);
     if (r->file < 0) {
         char msg[256];
         fpl_h5_error_text(msg, sizeof msg);
-        st = fpl_error(NULL, FPL_ERR_IO, "cannot open results file %s to resume: %s", path, msg);
-        goto done;
+        return fpl_error(NULL, FPL_ERR_IO, "cannot open results file %s to resume (missing or "
+                         "corrupt?): %s", path, msg);
     }
-    if ((st = fpl_h5_check_description(r->file, path, SCHEMA, lat, info->method))) goto done;
-    if ((st = load_pending(r, checkpoint, &rows, &crows))) goto done;
+    if ((st = fpl_h5_check_description(r->file, path, SCHEMA, r->lat, info->method))) return st;
+    if ((st = load_pending(r, checkpoint, rows, crows))) return st;
     for (int i = 0; i < S_COUNT; i++) {
         if (i == S_STATES && !r->store_states) continue;
         if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
             (r->s[i].d = H5Dopen2(r->file, s_names[i], H5P_DEFAULT)) < 0) {
             H5Eclear2(H5E_DEFAULT);
-            st = fpl_error(NULL, FPL_ERR_ARG, "%s has no dataset %s (was it written with the same "
-                           "options?)", path, s_names[i]);
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has no dataset %s (was it written with the same "
+                             "options?)", path, s_names[i]);
+        }
+    }
+    if (*crows > 0) {
+        if (H5Lexists(r->file, "chaos", H5P_DEFAULT) <= 0) {
+            H5Eclear2(H5E_DEFAULT);
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has no /chaos group, its checkpoint %s records "
+                             "%ld chaos rows", path, checkpoint, *crows);
+        }
+        for (int i = 0; i < C_COUNT; i++) {
+            if (H5Lexists(r->file, c_names[i], H5P_DEFAULT) <= 0 ||
+                (r->c[i].d = H5Dopen2(r->file, c_names[i], H5P_DEFAULT)) < 0) {
+                H5Eclear2(H5E_DEFAULT);
+                return fpl_error(NULL, FPL_ERR_IO, "%s: dataset %s missing or unreadable (corrupt?)",
+                                 path, c_names[i]);
+            }
+        }
+    }
+    for (int i = 0; i < S_COUNT; i++) {
+        if (r->s[i].d < 0) continue;
+        long have = series_rows_checked(&r->s[i]);
+        if (have < 0)
+            return fpl_error(NULL, FPL_ERR_IO, "%s: dataset %s has the wrong shape (corrupt?)", path,
+                             s_names[i]);
+        if (have < *rows)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
+                             "checkpoint %s records: not the file of that run", path, have,
+                             s_names[i], *rows, checkpoint);
+        int mismatch = 0;
+        if (verify && read_back(&r->s[i], r->buf[i], *rows, r->chunk, &mismatch)) {
+            char msg[256];
+            fpl_h5_error_text(msg, sizeof msg);
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: reading back %s failed: %s", path,
+                             s_names[i], msg);
+        }
+        if (mismatch)
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: its %s rows differ from those its "
+                             "checkpoint %s covers (checksum mismatch)", path, s_names[i], checkpoint);
+    }
+    for (int i = 0; i < C_COUNT && *crows > 0; i++) {
+        long have = series_rows_checked(&r->c[i]);
+        if (have < 0)
+            return fpl_error(NULL, FPL_ERR_IO, "%s: dataset %s has the wrong shape (corrupt?)", path,
+                             c_names[i]);
+        if (have < *crows)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
+                             "checkpoint %s records: not the file of that run", path, have,
+                             c_names[i], *crows, checkpoint);
+        int mismatch = 0;
+        if (verify && read_back(&r->c[i], r->cbuf[i], *crows, r->chunk, &mismatch)) {
+            char msg[256];
+            fpl_h5_error_text(msg, sizeof msg);
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: reading back %s failed: %s", path,
+                             c_names[i], msg);
+        }
+        if (mismatch)
+            return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: its %s rows differ from those its "
+                             "checkpoint %s covers (checksum mismatch)", path, c_names[i], checkpoint);
+    }
+    return FPL_OK;
+}
+
+static int resume_args(const char *path, const char *checkpoint)
+{
+    if (!path || !*path) return fpl_error(NULL, FPL_ERR_ARG, "path: empty file name");
+    if (!checkpoint || !*checkpoint) return fpl_error(NULL, FPL_ERR_ARG, "checkpoint: empty file name");
+    return FPL_OK;
+}
+
+int fpl_results_verify(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+                       const char *checkpoint)
+{
+    int st = resume_args(path, checkpoint);
+    if (st || (st = check_info(lat, info))) return st;
+    fpl_results *r;
+    if ((st = new_handle(lat, info, &r))) return st;
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    long rows = 0, crows = 0;
+    st = open_for_resume(r, path, H5F_ACC_RDONLY, info, checkpoint, 1, &rows, &crows);
+    release(r);
+    H5Eclear2(H5E_DEFAULT);
+    fpl_h5_quiet_end(&q);
+    return st;
+}
+
+/* Copy rows [0, rows) of `from` into the (empty) series `to`, through buf (chunk rows). */
+static int copy_rows(const series *from, series *to, double *buf, long rows, int chunk,
+                     char *errbuf, size_t errlen)
+{
+    for (long at = 0; at < rows; at += chunk) {
+        int n = (int)(rows - at < chunk ? rows - at : chunk);
+        if (read_block(from, buf, at, n)) {
+            fpl_h5_error_text(errbuf, errlen);
+            return -1;
+        }
+        if (append_rows(to, buf, n, errbuf, errlen)) return -1;
+    }
+    return 0;
+}
+
+int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+                       const char *checkpoint, fpl_results **out)
+{
+    if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
+    *out = NULL;
+    int st = fpl_results_verify(path, lat, info, checkpoint);   /* read-only: all or nothing */
+    if (st) return st;
+    /* The rows the checkpoint covers go into a fresh file, which then replaces the old one
+     * (rename): the old file is only read, so neither a kill during the resume nor damage in
+     * the old file's chunk index past those rows can reach the continued run. */
+    char target[4096], tmp[4200];
+    if (fpl_resolve_target(path, target, sizeof target) != 0)
+        return fpl_error(NULL, FPL_ERR_IO, "results file %s: cannot resolve the path", path);
+    snprintf(tmp, sizeof tmp, "%s.resume-%ld", target, (long)getpid());
+    fpl_remove_stale_temporaries(target, ".resume-");
+    fpl_results *old = NULL, *r = NULL;
+    if ((st = new_handle(lat, info, &old))) return st;
+    if ((st = new_handle(lat, info, &r))) {
+        release(old);
+        return st;
+    }
+    fpl_h5_quiet q;
+    fpl_h5_quiet_begin(&q);
+    long rows = 0, crows = 0;
+    int created = 0;
+    if ((st = open_for_resume(old, path, H5F_ACC_RDONLY, info, checkpoint, 0, &rows, &crows)))
+        goto done;
+    created = 1;
+    if ((st = create_in(r, tmp, info))) goto done;
+    if (crows > 0 && ensure_chaos(r)) {
+        st = h5_fail(r, "creating the chaos datasets");
+        goto done;
+    }
+    for (int i = 0; i < S_COUNT && !st; i++)
+        if (old->s[i].d >= 0 && copy_rows(&old->s[i], &r->s[i], r->buf[i], rows, r->chunk,
+                                          r->h5msg, sizeof r->h5msg))
+            st = h5_fail(r, "copying the rows the checkpoint covers");
+    for (int i = 0; i < C_COUNT && !st && crows > 0; i++)
+        if (copy_rows(&old->c[i], &r->c[i], r->cbuf[i], crows, r->chunk, r->h5msg,
+                      sizeof r->h5msg))
+            st = h5_fail(r, "copying the chaos rows the checkpoint covers");
+    if (st) goto done;
+    for (int i = 0; i < S_COUNT + C_COUNT; i++) {
+        const series *a = i < S_COUNT ? &old->s[i] : &old->c[i - S_COUNT];
+        const series *b = i < S_COUNT ? &r->s[i] : &r->c[i - S_COUNT];
+        if (a->hash != b->hash) {
+            st = fpl_error(NULL, FPL_ERR_IO, "results file %s changed while resuming (rows differ "
+                           "from its checkpoint %s)", path, checkpoint);
             goto done;
         }
     }
-    if (crows > 0 && ensure_chaos(r)) {
-        st = h5_fail(r, "opening the chaos datasets");
+    /* the pending rows of the chunk in progress, from the checkpoint */
+    for (int i = 0; i < S_COUNT; i++)
+        if (r->buf[i])
+            memcpy(r->buf[i], old->buf[i],
+                   sizeof(double) * (size_t)old->nbuf * (r->s[i].cols ? r->s[i].cols : 1));
+    for (int i = 0; i < C_COUNT; i++) memcpy(r->cbuf[i], old->cbuf[i], sizeof(double) * (size_t)old->ncbuf);
+    r->nbuf = old->nbuf;
+    r->ncbuf = old->ncbuf;
+    if (H5Fflush(r->file, H5F_SCOPE_GLOBAL) < 0) {
+        st = h5_fail(r, "flush");
         goto done;
     }
-    long have = series_rows(r->s[S_T].d), chave = crows > 0 ? series_rows(r->c[C_T].d) : 0;
-    if (have < rows || chave < crows) {
-        st = fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows (%ld chaos rows), fewer than the %ld (%ld) "
-                       "its checkpoint %s records: not the file of that run", path, have, chave,
-                       rows, crows, checkpoint);
+    if (fpl_fsync_path(tmp) != 0 || rename(tmp, target) != 0) {
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot move the resumed results %s into place as %s",
+                       tmp, target);
         goto done;
     }
-    /* cut back to whole chunks written before the checkpoint; later ones go */
-    int bad = 0;
-    for (int i = 0; i < S_COUNT && !bad; i++) bad = set_rows(&r->s[i], rows) != 0;
-    for (int i = 0; i < C_COUNT && !bad; i++) bad = set_rows(&r->c[i], crows) != 0;
-    if (bad || fpl_h5_set_string(r->file, "status", "running") ||
-        H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0)
-        st = h5_fail(r, "cutting the results back to the checkpoint");
+    created = 0;
 done:
-    fpl_h5_quiet_end(&q);
+    release(old);
     if (st) {
         release(r);
-        return st;
+        if (created) remove(tmp);
     }
+    H5Eclear2(H5E_DEFAULT);
+    fpl_h5_quiet_end(&q);
+    if (st) return st;
     *out = r;
     return FPL_OK;
 }

@@ -5,7 +5,7 @@
     >>> run = lat.integrate(7e4, sample_every=10.0)           # Yoshida 4, dt = 0.01
     >>> run.mode_energies[:, :4]                              # E_1..E_4 (paper Fig. 1b)
 """
-from ._errors import FputlabError, IntegrationError
+from ._errors import FputlabError, IntegrationError, Interrupted
 from ._native import ffi as _ffi, lib as _lib
 from .integrate import Integrator, Run, integrate, iter_samples, method_info, methods
 from . import analysis, blowup, chaos
@@ -19,4 +19,5 @@ __version__ = _ffi.string(_lib.fpl_version()).decode()
 
 __all__ = ["Lattice", "draw_disorder", "integrate", "iter_samples", "Integrator", "methods",
            "method_info", "Run", "omega", "mode_matrix",
-           "MODELS", "DISORDERS", "load", "FputlabError", "IntegrationError", "__version__"]
+           "MODELS", "DISORDERS", "load", "FputlabError", "IntegrationError", "Interrupted",
+           "__version__"]

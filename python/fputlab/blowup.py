@@ -3,7 +3,6 @@ blow-up probability over disorder realisations (paper Sec. 3, Fig. 3 and Sec. 4)
 from __future__ import annotations
 
 import math
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -13,7 +12,7 @@ from ._arrays import as_float_array
 from ._errors import check
 from ._native import ffi, lib
 from .integrate import Integrator, method_info
-from .lattice import Lattice, _real
+from .lattice import Lattice, _int, _real
 
 #: criterion names -> C kinds
 CRITERIA = {
@@ -47,7 +46,7 @@ def set_criteria(lattice: Lattice, criteria) -> None:
             raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
         ev.kind[i] = CRITERIA[name]
         ev.threshold[i] = _real(c[1], f"criteria[{i}] threshold")
-        ev.mode[i] = int(c[2]) if len(c) == 3 else 0
+        ev.mode[i] = _int(c[2], f"criteria[{i}] mode k") if len(c) == 3 else 0
     ev.n = len(criteria)
     lattice._check(lib.fpl_lattice_set_events(lattice._h, ev))
 
@@ -110,21 +109,38 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
     y = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * lattice.N,))
     if dt is None and not method_info(method)["adaptive"]:
         dt = 0.01
+    if not method_info(method)["adaptive"]:
+        from .integrate import check_steps
+        check_steps(t_max, _real(dt, "dt"), "t_max", t_max)
     set_criteria(lattice, crit)
     try:
         integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol)
         index, t_ev = ffi.new("int *"), ffi.new("double *")
-        if progress:   # the same run in 100 segments, a tqdm bar between them
-            from tqdm.auto import tqdm
-            with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t", disable=None,
-                      bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
-                for k in range(1, 101):
-                    status = lib.fpl_integrator_advance(integ._h, t_max * k / 100, ffi.NULL)
+        # in segments: fixed-step ones of ~0.2 s (pausing changes nothing), adaptive ones in 100
+        # equal parts (deterministic); Ctrl-C is seen between them
+        import time
+
+        from tqdm.auto import tqdm
+
+        from ._errors import Interrupted, Pacer, first_span
+        pacer = Pacer(first_span(dt, lattice.N)) if not integ.adaptive else None
+        target, status = 0.0, 0
+        with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t",
+                  disable=None if progress else True,
+                  bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
+            try:
+                while target < t_max and status == 0:
+                    step = pacer.span if pacer else t_max / 100
+                    target = min(t_max, target + step)
+                    before, clock = integ.t, time.perf_counter()
+                    status = lib.fpl_integrator_advance(integ._h, target, ffi.NULL)
+                    if pacer:
+                        pacer.record(integ.t - before, time.perf_counter() - clock)
                     bar.update(integ.t - bar.n)
-                    if status != 0:
-                        break
-        else:
-            status = lib.fpl_integrator_advance(integ._h, t_max, ffi.NULL)
+            except KeyboardInterrupt:
+                msg = f"interrupted (Ctrl-C) at t = {integ.t:.10g}"
+                raise Interrupted(msg, Blowup(False, float("nan"), "", integ.t, integ.state[0],
+                                              method, msg)) from None
         fired = lib.fpl_integrator_event(integ._h, index, t_ev)
         message = ffi.string(lib.fpl_integrator_errmsg(integ._h)).decode()
         if status < 0:
@@ -195,10 +211,11 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
         "tau > tau_c" agrees with "blew up before t_max". Plot with `plot_sweep` or
         `fputlab.plotting.plot_blowup_sweep`.
     """
-    taus, Ns = [float(t) for t in taus], [int(n) for n in Ns]
+    from .ensemble import check_ensemble, process_pool
+    taus, Ns, realisations = check_ensemble(taus, Ns, realisations)
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    with process_pool(workers) as pool:
         it = pool.map(_one, tasks)
         if progress:
             from tqdm.auto import tqdm

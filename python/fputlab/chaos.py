@@ -12,7 +12,7 @@ from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check, last_error
 from ._native import ffi, lib
 from .integrate import method_info
-from .lattice import Lattice, _int, _real
+from .lattice import C_U64, Lattice, _int, _real
 
 
 #: The default integrator of chaos ensembles (chaotic_fraction, sweeps, the study behind
@@ -83,20 +83,31 @@ class ChaosResult(ResultMixin):
                               t_final=self.t_final, t_eval=t_eval)
 
 
-def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res) -> int:
-    """fpl_chaos_run through the resumable handle, 100 segments, a tqdm bar between them."""
+def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res, progress=True) -> int:
+    """fpl_chaos_run through the resumable handle in segments of ~0.2 s (pauses fall on
+    renormalisation times, so the numbers are those of one call; Ctrl-C is seen between
+    segments), with a tqdm bar if `progress`."""
+    import time
+
     from tqdm.auto import tqdm
+
+    from ._errors import Pacer, first_span
     out = ffi.new("fpl_chaos **")
     status = lib.fpl_chaos_create(lattice._h, method.encode(), io, t0, ptr(y), w, co, out)
     if status < 0:
         return status
     c = ffi.gc(out[0], lambda h: lib.fpl_chaos_free(ffi.new("fpl_chaos **", h)))
     span = co.t_end - t0
-    with tqdm(total=span, desc=f"chaos N={lattice.N}", unit="t", disable=None,
+    pacer = Pacer(max(first_span(io.dt or None, lattice.N, co.n_dev), co.renorm_interval))
+    with tqdm(total=span, desc=f"chaos N={lattice.N}", unit="t", disable=None if progress else True,
               bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
-        for k in range(1, 101):
-            status = lib.fpl_chaos_advance(c, t0 + span * k / 100, *(ptr(a) for a in arrays))
+        target = t0
+        while target < co.t_end:
+            target = min(co.t_end, target + pacer.span)
+            before, clock = res.t_final, time.perf_counter()
+            status = lib.fpl_chaos_advance(c, target, *(ptr(a) for a in arrays))
             lib.fpl_chaos_get_result(c, res)
+            pacer.record(res.t_final - before, time.perf_counter() - clock)
             bar.update(res.t_final - t0 - bar.n)
             if status < 0 or lib.fpl_chaos_done(c):
                 break
@@ -117,7 +128,7 @@ def _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sal
     co.n_dev = _int(n_dev, "n_dev")
     co.sali_threshold = _real(sali_threshold, "sali_threshold")
     co.stop_when_chaotic = bool(stop_when_chaotic)
-    seed = _int(seed, "seed")
+    seed = _int(seed, "seed", C_U64)
     if seed < 0:
         raise ValueError(f"seed must be >= 0 (got {seed})")
     co.seed = seed
@@ -200,15 +211,17 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     co = _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sali_threshold,
                         stop_when_chaotic, seed, blowup_stretch)
     S = max(co.n_samples, 1)
+    from ._arrays import check_memory
+    check_memory(8.0 * (4 * S + 2 * N * (n_dev + 2)), f"{S} chaos samples (N = {N}, n_dev = {n_dev})")
     t, mle, sali, gali = (np.full(S, np.nan) for _ in range(4))
     res = ffi.new("fpl_chaos_result *")
-    if progress:
+    interrupted = False
+    try:
         status = _run_with_progress(lattice, method, io, _real(t0, "t0"), y, w, co,
-                                    (t, mle, sali, gali), res)
-    else:
-        status = lib.fpl_chaos_run(lattice._h, method.encode(), io, _real(t0, "t0"), ptr(y), w, co,
-                                   ptr(t), ptr(mle), ptr(sali), ptr(gali), res)
-    message = last_error() if status != 0 else ""
+                                    (t, mle, sali, gali), res, progress)
+        message = last_error() if status != 0 else ""
+    except KeyboardInterrupt:            # keep what was computed (Interrupted.result)
+        interrupted, status, message = True, 0, ""
     k = res.n_samples
     out = ChaosResult(t=t[:k], mle=mle[:k], sali=sali[:k], gali=gali[:k], chaotic=bool(res.chaotic),
                       t_chaotic=res.t_chaotic, t_final=res.t_final, steps=res.steps, method=method,
@@ -217,6 +230,10 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
                               "seed": lattice.seed, "t_end": t_end, "dt": io.dt,
                               "renorm_interval": co.renorm_interval},
                       blew_up=bool(res.blew_up), t_blowup=res.t_blowup)
+    if interrupted:
+        from ._errors import Interrupted
+        out.completed, out.message = False, f"interrupted (Ctrl-C) at t = {res.t_final:.10g}"
+        raise Interrupted(out.message, out)
     if status < 0:
         try:
             check(status)
@@ -255,14 +272,10 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
     orbits stop early unless stop_when_chaotic=False. kwargs go to `lyapunov`.
     Returns {"N", "percent", "blowups", "classes": {N: {class: count}},
     "results": {N: [ChaosResult, ...]}}. For t = 1e8 use the resumable fputlab.study."""
-    from .ensemble import run_calls
+    from .ensemble import check_ensemble, run_calls
     method, kwargs = ensemble_defaults(method, kwargs)
-    realisations = _int(realisations, "realisations")
-    if realisations < 1:
-        raise ValueError(f"realisations must be >= 1 (got {realisations})")
-    Ns = [_int(N, "Ns") for N in Ns]
-    if not Ns:
-        raise ValueError("Ns must not be empty")
+    _, Ns, realisations = check_ensemble([tau], Ns, realisations)
+    Ns = [int(N) for N in Ns]
     calls = [((N, tau, first_seed + r, model, alpha, t_end, method, kwargs),)
              for N in Ns for r in range(realisations)]
     got: dict = {}

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import sys
 
 import numpy as np
@@ -14,32 +16,104 @@ def _lattice_args(p, model="nonlinear", tau=10.0, N=64):
     p.add_argument("--beta", type=float, default=0.0, help="quartic coupling (default 0)")
     p.add_argument("--model", default=model, choices=["homogeneous", "hamiltonian", "nonlinear"],
                    help=f"lattice model (default {model})")
-    p.add_argument("--tau", type=float, default=tau, help=f"variability in percent (default {tau:g})")
+    # default None: whether --tau was given matters (the homogeneous model refuses it)
+    p.add_argument("--tau", type=float, default=None, help=f"variability in percent (default {tau:g})")
+    p.set_defaults(tau_default=tau)
     p.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
-    p.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    p.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
+                   help="distribution of the disorder draws")
 
 
 def _method_args(p, dt=0.01, method="yoshida4"):
     p.add_argument("--method", default=method, help=f"integrator (see `fputlab methods`; "
                    f"default {method or 'yoshida4, ensembles srkn14a6 at dt = 0.5'})")
     p.add_argument("--dt", type=float, default=None, help=f"fixed step (default {dt:g})")
-    p.add_argument("--rtol", type=float, default=1e-10)
-    p.add_argument("--atol", type=float, default=1e-12)
+    p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (adaptive methods)")
+    p.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance (adaptive methods)")
 
 
 def _lattice(a):
     from .lattice import Lattice
     if a.model == "homogeneous":
+        _homogeneous_check(a)
         return Lattice(a.N, a.alpha, a.model, beta=a.beta)
     return Lattice(a.N, a.alpha, a.model, beta=a.beta, tau=a.tau, seed=a.seed, disorder=a.disorder)
 
 
+def _json_safe(x):
+    """x with numpy scalars/arrays as Python numbers/lists and non-finite floats as None, so that
+    the output is strict JSON (RFC 8259 has no NaN or Infinity)."""
+    if isinstance(x, dict):
+        return {str(k): _json_safe(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_json_safe(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _json_safe(x.tolist())
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    if x is None or isinstance(x, str):
+        return x
+    return str(x)
+
+
+def dumps_strict(obj, **kw) -> str:
+    """json.dumps of _json_safe(obj); never writes NaN/Infinity."""
+    return json.dumps(_json_safe(obj), allow_nan=False, **kw)
+
+
+def _homogeneous_check(a):
+    """The homogeneous model has no disorder: a --tau given with it is refused, not ignored."""
+    if a.model == "homogeneous" and getattr(a, "tau_given", False) and a.tau != 0:
+        raise ValueError(f"--tau {a.tau:g}: the homogeneous model has no disorder (use --model "
+                         "hamiltonian or nonlinear, or drop --tau)")
+
+
+def _positive(a, name: str, minimum: int = 1):
+    value = getattr(a, name, None)
+    if value is not None and value < minimum:
+        raise ValueError(f"--{name.replace('_', '-')} must be >= {minimum} (got {value})")
+
+
 def _emit(summary: dict, as_json: bool):
     if as_json:
-        print(json.dumps(summary, indent=2, default=float))
+        print(dumps_strict(summary, indent=2))
     else:
         for k, v in summary.items():
             print(f"{k:>24}: {v}")
+
+
+def _output_paths(a, *names):
+    """Refuse, before anything is written, output paths that collide with each other or an
+    existing file that --overwrite does not allow to replace. names: attribute names of a
+    (out, checkpoint, plot, work_dir); files a run resumes (checkpoint, a resumed --out) are
+    left to the run's own checks."""
+    given = [(n, getattr(a, n, None)) for n in names]
+    given = [(n, os.fspath(p)) for n, p in given if p]
+    for i, (n1, p1) in enumerate(given):
+        for n2, p2 in given[i + 1:]:
+            same = os.path.realpath(p1) == os.path.realpath(p2)
+            if not same and os.path.exists(p1) and os.path.exists(p2):
+                same = os.path.samefile(p1, p2)
+            if same:
+                raise ValueError(f"--{n2.replace('_', '-')} {p2!r} is the same file as "
+                                 f"--{n1.replace('_', '-')}: every output needs its own path")
+
+
+def _new_file(a, name: str):
+    """An output file that is written from scratch: refuse to replace an existing one unless
+    --overwrite."""
+    path = getattr(a, name, None)
+    if not path:
+        return
+    if os.path.isdir(path):
+        raise ValueError(f"--{name}: {path!r} is a directory")
+    if os.path.exists(path) and not getattr(a, "overwrite", False):
+        raise FileExistsError(f"--{name}: {path!r} exists; not overwritten (pass --overwrite to "
+                              "replace it)")
 
 
 def _write_h5(path, attrs: dict, datasets: dict):
@@ -108,26 +182,39 @@ def _summary_h5(path, summary: dict):
 def cmd_simulate(a):
     if a.checkpoint and not a.out:
         raise ValueError("--checkpoint needs --out (the results file it belongs to)")
+    _output_paths(a, "out", "checkpoint")
     lat = _lattice(a)
     if a.out:
         # long runs: the C core writes the samples as it goes, with checkpoints and restart
         from .io import simulate_to_file
         s = simulate_to_file(lat, a.t_end, a.out, method=a.method, sample_every=a.sample_every,
-                             store_states=a.states, **_integrator_kwargs(a), **_checkpoint_kwargs(a))
+                             store_states=a.states, overwrite=a.overwrite,
+                             **_integrator_kwargs(a), **_checkpoint_kwargs(a))
         _emit({"lattice": repr(lat), "method": a.method, **_run_summary(s)}, a.json)
         return {"completed": 0, "event": 0, "interrupted": 130}.get(s.status, 1)
-    run = lat.integrate(a.t_end, method=a.method, sample_every=a.sample_every,
-                        store_states=a.states, on_failure="return", progress=not a.json,
-                        **_integrator_kwargs(a))
+    from ._errors import Interrupted
+    try:
+        run = lat.integrate(a.t_end, method=a.method, sample_every=a.sample_every,
+                            store_states=a.states, on_failure="return", progress=not a.json,
+                            **_integrator_kwargs(a))
+    except Interrupted as err:          # Ctrl-C: the summary of what was computed, exit 130
+        run = err.result
     summary = {"lattice": repr(lat), "method": a.method, "t_reached": float(run.t[-1]) if run.t.size else 0.0,
                "samples": int(run.t.size), "completed": run.completed, "message": run.message,
                "max_relative_energy_error": float(run.relative_energy_error.max()) if run.t.size else None}
     _emit(summary, a.json)
+    if run.message.startswith("interrupted"):
+        return 130
     return 0 if run.completed else 1
 
 
 def cmd_blowup(a):
     from .blowup import blowup_sweep, blowup_time
+    _positive(a, "realisations")
+    _positive(a, "workers")
+    _homogeneous_check(a)
+    _output_paths(a, "out", "plot")
+    _new_file(a, "out")
     if a.realisations > 1 or len(a.taus) > 1:
         _ensemble_lattice_check(a)
         out = blowup_sweep(a.taus, Ns=[a.N], realisations=a.realisations, t_max=a.t_max,
@@ -159,8 +246,15 @@ def cmd_chaos(a):
     from .chaos import chaotic_fraction, lyapunov
     if a.checkpoint and (not a.out or a.realisations > 1):
         raise ValueError("--checkpoint needs --out and one orbit (use `fputlab sweep` for ensembles)")
+    _positive(a, "realisations")
+    _positive(a, "workers")
+    _positive(a, "samples")
+    _homogeneous_check(a)
+    _output_paths(a, "out", "checkpoint")
+    if a.realisations > 1:
+        _new_file(a, "out")
     opts = dict(_integrator_kwargs(a), n_samples=a.samples)
-    if a.stop_when_chaotic:
+    if a.stop_when_chaotic:         # ensembles stop chaotic orbits anyway (chaos.ensemble_defaults)
         opts["stop_when_chaotic"] = True
     if a.realisations > 1:
         _ensemble_lattice_check(a)
@@ -183,22 +277,32 @@ def cmd_chaos(a):
         # written as it goes, with checkpoints: runs to t = 1e8 survive interruptions
         from .io import chaos_to_file
         s = chaos_to_file(_lattice(a), a.t_end, a.out, method=a.method or "yoshida4", **opts,
-                          **_checkpoint_kwargs(a))
+                          overwrite=a.overwrite, **_checkpoint_kwargs(a))
         _emit(_run_summary(s), a.json)
         return {"completed": 0, "interrupted": 130}.get(s.status, 1)
-    res = lyapunov(_lattice(a), a.t_end, method=a.method or "yoshida4", progress=not a.json,
-                   **opts)
+    from ._errors import Interrupted
+    try:
+        res = lyapunov(_lattice(a), a.t_end, method=a.method or "yoshida4",
+                       progress=not a.json, **opts)
+    except Interrupted as err:          # Ctrl-C: the summary of what was computed, exit 130
+        res = err.result
     summary = {"mle": res.mle_final, "sali": float(res.sali[-1]) if res.sali.size else None,
                "class": res.classify(), "t_final": res.t_final, "steps": res.steps}
     if res.blew_up:
-        summary.update(t_blowup=res.t_blowup, message=res.message)
+        summary["t_blowup"] = res.t_blowup
+    if res.message:
+        summary["message"] = res.message
     _emit(summary, a.json)
-    return 0
+    return 130 if res.message.startswith("interrupted") else 0
 
 
 def cmd_figures(a):
     from .figures import all_figures
     only = set(a.only) if a.only else None
+    unknown = sorted(k for k in (only or ()) if not 1 <= k <= 14)
+    if unknown:
+        raise ValueError(f"--only: there is no figure {', '.join(map(str, unknown))} (the paper's "
+                         "figures are 1-14)")
     study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
              "scheduler": a.scheduler}
     for p in all_figures(a.out, full=a.full, only=only, **study):
@@ -208,9 +312,12 @@ def cmd_figures(a):
 
 def cmd_methods(a):
     from .integrate import method_info, methods
-    for m in methods():
+    names = methods()
+    width = max(len(m) for m in names)
+    print(f"{'method':{width}s}  order  kind")
+    for m in names:
         info = method_info(m)
-        print(f"{m:12s} order {info['order']}  {'adaptive' if info['adaptive'] else 'fixed step'}")
+        print(f"{m:{width}s}  {info['order']:>5d}  {'adaptive' if info['adaptive'] else 'fixed step'}")
     return 0
 
 
@@ -230,6 +337,15 @@ def cmd_sweep(a):
     elif a.samples is not None:
         raise ValueError("--samples: only for --kind chaos")
     work_dir = a.work_dir if a.work_dir else f"{a.out}.tasks"
+    a.work_dir = work_dir
+    _output_paths(a, "out", "work_dir")
+    if os.path.exists(work_dir) and not os.path.isdir(work_dir):
+        raise ValueError(f"--work-dir: {work_dir!r} exists and is not a directory")
+    if os.path.isdir(a.out):
+        raise ValueError(f"--out: {a.out!r} is a directory")
+    if os.path.realpath(a.out).startswith(os.path.realpath(work_dir) + os.sep):
+        raise ValueError(f"--out {a.out!r} is inside --work-dir {work_dir!r}: keep the merged "
+                         "file out of the task folder")
     out = run_sweep(a.kind, taus, Ns, a.realisations, t_max=a.t_max, work_dir=work_dir,
                     out=a.out, model=a.model, alpha=a.alpha, first_seed=a.first_seed,
                     method=a.method, workers=a.workers, scheduler=a.scheduler,
@@ -262,6 +378,7 @@ def _coefficient_row(lat) -> dict:
 
 def cmd_coefficients(a):
     from .lattice import Lattice
+    _new_file(a, "out")
     rows = []
     for tau in a.taus:
         if a.model == "homogeneous":
@@ -294,6 +411,7 @@ def cmd_coefficients(a):
 
 def cmd_tauc(a):
     from .reduction import critical_tolerance
+    _new_file(a, "out")
     tau = None
     if a.fit_taus is not None:
         tau = np.asarray(a.fit_taus, dtype=float)
@@ -316,6 +434,9 @@ def cmd_tauc(a):
 
 def cmd_bifurcation(a):
     from .reduction import REGIONS, ReducedSystem, classify, r1_squared
+    _positive(a, "N", 2)
+    _output_paths(a, "out", "plot")
+    _new_file(a, "out")
     r1sq = r1_squared(a.N)
     rs = ReducedSystem(a.A_tilde, a.B_tilde, N=a.N)
     lo, hi = rs.region()
@@ -342,6 +463,11 @@ def cmd_bifurcation(a):
     return 0
 
 
+def _overwrite_arg(p):
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing --out file (otherwise refused)")
+
+
 def _checkpoint_args(p):
     p.add_argument("--checkpoint", help="checkpoint file (with --out): resume from it if it exists")
     p.add_argument("--checkpoint-every", type=float, default=600.0, metavar="SECONDS",
@@ -362,38 +488,52 @@ def build_parser():
     s = sub.add_parser("simulate", help="integrate one lattice, sample mode energies")
     _lattice_args(s)
     _method_args(s)
-    s.add_argument("--t-end", type=float, default=1e4)
-    s.add_argument("--sample-every", type=float, default=None)
+    s.add_argument("--t-end", "--t-max", dest="t_end", type=float, default=1e4, help="final time")
+    s.add_argument("--sample-every", type=float, default=None,
+                   help="sample spacing (default t_end/1000, at least dt; on resume: the "
+                        "checkpoint's)")
     s.add_argument("--states", action="store_true", help="also store the states")
     s.add_argument("--out", help="HDF5 results file, written as the run goes (see docs/hdf5.md)")
+    _overwrite_arg(s)
     _checkpoint_args(s)
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_simulate)
 
     s = sub.add_parser("blowup", help="blow-up time of one realisation, or the probability over many")
     _lattice_args(s, tau=20.0)
     _method_args(s)
-    s.add_argument("--t-max", type=float, default=1e4)
+    s.add_argument("--t-max", "--t-end", dest="t_max", type=float, default=1e4,
+                   help="final time (no blow-up before it: blew_up false)")
     s.add_argument("--taus", type=float, nargs="+", default=None, help="sweep these tau values")
-    s.add_argument("--realisations", type=int, default=1)
-    s.add_argument("--workers", type=int, default=None)
-    s.add_argument("--out")
+    s.add_argument("--realisations", type=int, default=1,
+                   help="disorder realisations (seeds --seed, --seed + 1, ...)")
+    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
+    s.add_argument("--out", help="HDF5 file with the sweep (with --taus or --realisations)")
+    _overwrite_arg(s)
     s.add_argument("--plot", help="PNG of the sweep: probability vs tau, blow-up times")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_blowup)
 
     s = sub.add_parser("chaos", help="mLE and SALI of one orbit, or the chaotic fraction (Fig. 14)")
     _lattice_args(s)
     _method_args(s, method=None)
-    s.add_argument("--t-end", type=float, default=1e4)
-    s.add_argument("--samples", type=int, default=200)
-    s.add_argument("--stop-when-chaotic", action="store_true")
-    s.add_argument("--realisations", type=int, default=1)
-    s.add_argument("--Ns", type=int, nargs="+", default=[4, 8, 16, 32, 64])
-    s.add_argument("--workers", type=int, default=None)
+    s.add_argument("--t-end", "--t-max", dest="t_end", type=float, default=1e4, help="final time")
+    s.add_argument("--samples", type=int, default=200,
+                   help="log-spaced samples of mLE(t), SALI(t), GALI(t)")
+    s.add_argument("--stop-when-chaotic", action="store_true",
+                   help="stop once SALI falls below its threshold")
+    s.add_argument("--realisations", type=int, default=1,
+                   help="disorder realisations per N (> 1: the chaotic fraction over --Ns)")
+    s.add_argument("--Ns", type=int, nargs="+", default=[4, 8, 16, 32, 64],
+                   help="lattice sizes of the chaotic fraction")
+    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
     s.add_argument("--out", help="HDF5 file (one orbit: written as the run goes, with checkpoints)")
+    _overwrite_arg(s)
     _checkpoint_args(s)
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_chaos)
 
     s = sub.add_parser("sweep", help="realisation x tau x N ensemble (blow-up or chaos) on a local "
@@ -418,8 +558,10 @@ def build_parser():
     s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
     s.add_argument("--method", default=None, help="integrator (default yoshida4)")
     s.add_argument("--dt", type=float, default=None, help="fixed step (default 0.01)")
-    s.add_argument("--rtol", type=float, default=None)
-    s.add_argument("--atol", type=float, default=None)
+    s.add_argument("--rtol", type=float, default=None,
+                   help="relative tolerance, adaptive methods (default 1e-10)")
+    s.add_argument("--atol", type=float, default=None,
+                   help="absolute tolerance, adaptive methods (default 1e-12)")
     s.add_argument("--samples", type=int, default=None,
                    help="chaos: log-spaced samples of mLE(t), SALI(t) (default 200)")
     s.add_argument("--out", default="sweep.h5", help="merged HDF5 file (default sweep.h5)")
@@ -428,7 +570,8 @@ def build_parser():
     s.add_argument("--scheduler", default=None,
                    help="Dask scheduler address tcp://host:port (default: local processes)")
     s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_sweep)
 
     s = sub.add_parser("coefficients", help="two-mode coefficients a_i, b_i (raw) and A_i, B_i, "
@@ -441,9 +584,12 @@ def build_parser():
     s.add_argument("--taus", type=float, nargs="+", default=None,
                    help="several variabilities (same seed, hence the same draws z)")
     s.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
-    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
+                   help="distribution of the disorder draws")
     s.add_argument("--out", help="HDF5 file to write")
-    s.add_argument("--json", action="store_true")
+    _overwrite_arg(s)
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.set_defaults(func=cmd_coefficients)
 
     s = sub.add_parser("tauc", help="critical variability tau_c (B~ = 0) three ways: exact "
@@ -453,11 +599,14 @@ def build_parser():
     s.add_argument("--R", "--realisations", dest="R", type=int, default=100,
                    help="realisations (default 100, as the paper)")
     s.add_argument("--first-seed", type=int, default=1, help="seeds first..first+R-1 (default 1)")
-    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
+    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
+                   help="distribution of the disorder draws")
     s.add_argument("--fit-taus", type=float, nargs="+", default=None,
                    help="tau grid of the fit (default 0, 0.5, ..., 20)")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.add_argument("--out", help="HDF5 file with the summary")
+    _overwrite_arg(s)
     s.set_defaults(func=cmd_tauc)
 
     s = sub.add_parser("bifurcation", help="reduced (P, Delta, theta) system at (A~, B~): C, "
@@ -469,8 +618,10 @@ def build_parser():
     s.add_argument("--N", type=int, default=64,
                    help="particles: r_1^2 = (N+1)/8 of the paper's initial state (default 64)")
     s.add_argument("--plot", help="PNG of the (A~, B~) bifurcation diagram (Fig. 7)")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true",
+                   help="print the summary as JSON (strict: NaN/Inf as null)")
     s.add_argument("--out", help="HDF5 file with the summary")
+    _overwrite_arg(s)
     s.set_defaults(func=cmd_bifurcation)
 
     s = sub.add_parser("figures", help="regenerate the paper's figures as PNGs")
@@ -489,11 +640,29 @@ def build_parser():
 
     s = sub.add_parser("methods", help="list the integrators")
     s.set_defaults(func=cmd_methods)
+    for s in sub.choices.values():
+        if s.formatter_class is argparse.HelpFormatter:
+            s.formatter_class = _DefaultsFormatter
     return p
 
 
-def main(argv=None) -> int:
-    argv = sys.argv[1:] if argv is None else list(argv)
+class _DefaultsFormatter(argparse.HelpFormatter):
+    """Every option's help ends with its default (unless the help already states it)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        default = action.default
+        if ("default" in text or not action.option_strings or default is None
+                or default is False or default is argparse.SUPPRESS):
+            return text
+        if isinstance(default, (list, tuple)):
+            default = " ".join(map(str, default))
+        elif isinstance(default, float):
+            default = f"{default:g}"
+        return f"{text} (default {str(default).replace('%', '%%')})".strip()
+
+
+def _run(argv) -> int:
     if argv[:1] == ["demo"]:
         from .demo import main as demo_main
         return demo_main(argv[1:])
@@ -506,10 +675,45 @@ def main(argv=None) -> int:
     if not getattr(a, "func", None):
         parser.print_help()
         return 2
+    if hasattr(a, "tau_default"):
+        a.tau_given = a.tau is not None
+        if a.tau is None:
+            a.tau = a.tau_default
     if getattr(a, "taus", "absent") is None:
         a.taus = [a.tau]
+    return a.func(a)
+
+
+def _one_line(err: BaseException) -> str:
+    msg = " ".join(str(err).split()) or type(err).__name__
+    if isinstance(err, (ValueError, TypeError)):
+        return msg
+    if isinstance(err, OSError) and err.filename and str(err.filename) not in msg:
+        msg = f"{msg}: {err.filename}"
+    if isinstance(err, ImportError) and err.name:
+        return f"{msg} (the Python package {err.name!r} is needed for this; pip install it)"
+    return f"{type(err).__name__}: {msg}" if not isinstance(err, OSError) else msg
+
+
+def main(argv=None) -> int:
+    """The `fputlab` command. Every failure is one line on stderr and exit status 2 (130 on
+    Ctrl-C / SIGINT); FPUTLAB_TRACEBACK=1 shows the traceback instead."""
+    argv = sys.argv[1:] if argv is None else list(argv)
     try:
-        return a.func(a)
-    except (ValueError, TypeError) as err:
-        print(f"fputlab: error: {err}", file=sys.stderr)
+        return _run(argv)
+    except KeyboardInterrupt:
+        print("fputlab: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:                   # `fputlab ... | head`: not an error of ours
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
+    except SystemExit:
+        raise
+    except Exception as err:                  # noqa: BLE001 - the CLI never shows a traceback
+        if os.environ.get("FPUTLAB_TRACEBACK"):
+            raise
+        print(f"fputlab: error: {_one_line(err)}", file=sys.stderr)
         return 2

@@ -63,7 +63,8 @@ def main(argv=None) -> int:
     ax_b.set_title(f"(b) $E_1..E_4$, E = {summary['E']:.5f}, α = {args.alpha:g}")
     fig.savefig(args.out, dpi=120)
     if args.json:
-        print(json.dumps(summary, indent=2))
+        from .cli import dumps_strict
+        print(dumps_strict(summary, indent=2))
     else:
         print(f"FPUT recurrence, N = {args.N}, alpha = {args.alpha:g}, E = {summary['E']:.5f}: "
               f"E1 returns to {100 * summary['recurrence_E1_fraction']:.1f}% of E at "

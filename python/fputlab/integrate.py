@@ -8,10 +8,10 @@ from typing import Iterator
 
 import numpy as np
 
-from ._arrays import as_float_array, ptr
+from ._arrays import as_float_array, check_memory, ptr
 from ._errors import FputlabError, IntegrationError, check
 from ._native import ffi, lib
-from .lattice import Lattice, _int, _real
+from .lattice import C_LONG, Lattice, _int, _real
 
 
 def methods() -> list[str]:
@@ -23,6 +23,8 @@ def method_info(method: str) -> dict:
     """{'order': int, 'adaptive': bool} for a method name."""
     if not isinstance(method, str):
         raise TypeError(f"method must be a string, got {type(method).__name__}")
+    if "\x00" in method:
+        raise ValueError(f"method {method!r} is unknown (it contains a NUL character)")
     order, adaptive = ffi.new("int *"), ffi.new("int *")
     check(lib.fpl_method_info(method.encode(), order, adaptive))
     return {"order": order[0], "adaptive": bool(adaptive[0])}
@@ -68,7 +70,7 @@ class Integrator:
         elif self.adaptive:
             opt.dt = 0.0
         opt.rtol, opt.atol = _real(rtol, "rtol"), _real(atol, "atol")
-        opt.max_steps = _int(max_steps, "max_steps")
+        opt.max_steps = _int(max_steps, "max_steps", C_LONG)
         self.dt = opt.dt
         out = ffi.new("fpl_integrator **")
         check(lib.fpl_integrator_create(lattice._h, method.encode(), n_dev, opt,
@@ -107,7 +109,7 @@ class Integrator:
         """Continue from a checkpoint (steps, t, state) of an integrator made with the same
         lattice, method, options and t0: bit-for-bit for fixed-step methods."""
         y = as_float_array(state, "state", self._shape)
-        self._check(lib.fpl_integrator_restore(self._h, _int(steps, "steps"), _real(t, "t"), ptr(y)))
+        self._check(lib.fpl_integrator_restore(self._h, _int(steps, "steps", C_LONG), _real(t, "t"), ptr(y)))
 
     def advance(self, t: float) -> np.ndarray:
         """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
@@ -240,6 +242,14 @@ class Run:
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
+def check_steps(span: float, dt: float | None, name: str, value: float) -> None:
+    """Refuse a fixed-step run of more than 9e18 steps (the C core's limit), before it starts:
+    run in segments it would otherwise go on for ever."""
+    if dt is not None and span / dt > 9e18:
+        raise ValueError(f"{name} = {value:g} needs {span / dt:.3g} steps of dt = {dt:g}, more "
+                         "than 9e18")
+
+
 def _sample_times(t0, t_end, sample_every, times):
     if times is not None:
         if sample_every is not None:
@@ -341,14 +351,39 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
             raise ValueError(f"dt must be finite and > 0 (got {dt:g})")
     elif not method_info(method)["adaptive"]:
         dt = 0.01
-    ts = _sample_times(t0, t_end, sample_every, times)
     N = lattice.N
+    fixed_step = dt is not None and not method_info(method)["adaptive"]
+    if fixed_step:
+        last = t_end if times is None else float(np.max(as_float_array(times, "times"), initial=t0))
+        check_steps(last - t0, dt, "t_end" if times is None else "times", last)
+    if times is None and sample_every is None and fixed_step and (t_end - t0) / 1000 < dt:
+        sample_every = dt          # the default spacing, but never below what dt can resolve
+    if times is None and sample_every is not None:
+        every = _real(sample_every, "sample_every")
+        if math.isfinite(every) and every > 0:
+            n_est = (t_end - t0) / every + 1       # memory of the samples, before any allocation
+            n_dev_est = 0 if deviations is None else np.size(deviations) // (2 * N)
+            check_memory(8.0 * n_est * (2 * N + 3 + (2 * N * (1 + n_dev_est) if store_states
+                                                     else 0)),
+                         f"{n_est:.4g} samples of a lattice of N = {N}")
+    ts = _sample_times(t0, t_end, sample_every, times)
     orbit = lattice.mode_state(1, 1.0) if y0 is None else as_float_array(y0, "y0", (2 * N,))
     if deviations is not None:
         dev = as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)
         state0 = np.concatenate([orbit[None, :], dev])
     else:
         state0 = orbit[None, :]
+    check_memory(8.0 * ts.size * (N + 2 + (state0.size if store_states else 0)),
+                 f"{ts.size} samples of a lattice of N = {N}")
+    if fixed_step and ts.size > 1:
+        # a fixed-step method only reaches multiples of dt: samples closer than dt would repeat
+        # the same grid state under different times
+        gaps = np.diff(np.concatenate([[t0], ts]))
+        small = gaps[gaps > 0]
+        if small.size and small.min() < dt * (1 - 1e-9):
+            raise ValueError(f"dt = {dt:g} is larger than the sample spacing {small.min():g}: a "
+                             "fixed-step method only reaches multiples of dt (use a smaller dt or "
+                             "sample less often)")
     from .blowup import set_criteria
     set_criteria(lattice, stop_on)
     try:
@@ -361,6 +396,9 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
 
 def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
                on_failure, progress=False):
+    import time
+
+    from ._errors import Interrupted, Pacer, first_span
     N = lattice.N
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
     parts = {"t": [], "ek": [], "en": [], "st": []}
@@ -368,29 +406,58 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
     bar = None
     if progress:
         from tqdm.auto import tqdm
-        chunk = max(1, min(chunk, ts.size // 100))
         bar = tqdm(total=float(ts[-1] - t0), desc=f"integrate N={N}", unit="t", disable=None,
                    bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
-    for start in range(0, ts.size, chunk):
-        block = ts[start:start + chunk]
-        try:
-            k, st, ek, en = integ.sample(block, states=store_states)
-        except FputlabError as err:
-            if not hasattr(err, "partial"):
-                raise
-            k, st, ek, en = err.partial
-            completed, message, status = False, str(err), err.status
-        parts["t"].append(block[:k])
-        parts["ek"].append(ek[:k])
-        parts["en"].append(en[:k])
-        if store_states:
-            parts["st"].append(st[:k])
-        if bar is not None and k:
-            bar.update(float(block[k - 1] - t0) - bar.n)
-        if not completed or integ.last_status == lib.FPL_EVENT:
-            break
-    if bar is not None:
-        bar.close()
+    # Segments of ~0.2 s (C calls do not see Ctrl-C): blocks of samples, and for fixed-step
+    # methods also pieces of a long gap before a sample (grid states do not depend on pauses).
+    pacer = Pacer(first_span(dt, N, integ.n_dev))
+    can_pause = not integ.adaptive
+    event_hit, interrupted = False, False
+    start = 0
+    try:
+        while start < ts.size:
+            while can_pause and ts[start] - integ.t > pacer.span:
+                t_before, clock = integ.t, time.perf_counter()
+                integ.advance(integ.t + pacer.span)
+                pacer.record(integ.t - t_before, time.perf_counter() - clock)
+                if bar is not None:
+                    bar.update(float(integ.t - t0) - bar.n)
+                if integ.event:
+                    event_hit = True
+                    break
+            if event_hit:
+                break
+            limit = min(ts.size, start + chunk)
+            stop = start + 1 + int(np.searchsorted(ts[start + 1:limit], integ.t + pacer.span,
+                                                   side="right"))
+            block = ts[start:stop]
+            t_before, clock = integ.t, time.perf_counter()
+            try:
+                k, st, ek, en = integ.sample(block, states=store_states)
+            except FputlabError as err:
+                if not hasattr(err, "partial"):
+                    raise
+                k, st, ek, en = err.partial
+                completed, message, status = False, str(err), err.status
+            pacer.record(integ.t - t_before, time.perf_counter() - clock)
+            parts["t"].append(block[:k])
+            parts["ek"].append(ek[:k])
+            parts["en"].append(en[:k])
+            if store_states:
+                parts["st"].append(st[:k])
+            if bar is not None and k:
+                bar.update(float(block[k - 1] - t0) - bar.n)
+            start = stop
+            if not completed or integ.last_status == lib.FPL_EVENT:
+                break
+    except FputlabError as err:          # NaN/Inf or a back end giving up between samples
+        completed, message, status = False, str(err), err.status
+    except KeyboardInterrupt:
+        interrupted, completed = True, False
+        message = f"interrupted (Ctrl-C) at t = {integ.t:.10g}"
+    finally:
+        if bar is not None:
+            bar.close()
     cat = lambda xs, shape: np.concatenate(xs) if xs else np.empty(shape)
     states = cat(parts["st"], (0, 1 + integ.n_dev, 2 * N)) if store_states else None
     if states is not None and integ.n_dev == 0:
@@ -400,6 +467,8 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
               dt=dt if dt is not None else float("nan"), completed=completed, message=message,
               y0=orbit.copy(), counters=integ.counters, event=integ.event,
               final_state=integ.state if integ.n_dev else integ.state[0])
+    if interrupted:
+        raise Interrupted(message, run)
     if not completed and on_failure == "raise":
         raise IntegrationError(message, status, run)
     return run

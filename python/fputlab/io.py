@@ -27,7 +27,7 @@ from ._arrays import as_float_array, ptr
 from ._errors import FputlabError, check, last_error
 from ._native import ffi, lib
 from .integrate import Integrator, method_info
-from .lattice import Lattice, _int, _real
+from .lattice import C_LONG, C_U64, Lattice, _int, _real
 
 #: how a run ended, as written to the file's `status` attribute
 STATUSES = ("running", "completed", "event", "failed", "interrupted")
@@ -198,7 +198,7 @@ class RunSummary:
 
 def _check_every(steps, seconds):
     if steps is not None:
-        steps = _int(steps, "checkpoint_every_steps")
+        steps = _int(steps, "checkpoint_every_steps", C_LONG)
         if steps < 1:
             raise ValueError(f"checkpoint_every_steps must be >= 1 (got {steps})")
     if seconds is not None:
@@ -206,6 +206,142 @@ def _check_every(steps, seconds):
         if not (seconds > 0):
             raise ValueError(f"checkpoint_every_seconds must be > 0 (got {seconds:g})")
     return steps, seconds
+
+
+def _same_file(a, b) -> bool:
+    """True if two paths name the same file (also through symlinks, hard links, '..')."""
+    if os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def _describe_existing(path) -> str:
+    """What an existing file is, in a few words (for refusals)."""
+    try:
+        size = os.path.getsize(path)
+    except OSError:
+        return "unreadable"
+    try:
+        import h5py
+        with h5py.File(path, "r") as f:
+            attrs = f.attrs
+            schema = _attr(attrs.get("schema", ""))
+            if not str(schema).startswith("fputlab-results/"):
+                return f"{size} bytes, not an fputlab results file"
+            status = _attr(attrs.get("status", "?"))
+            n = f["t"].shape[0] if "t" in f else 0
+            t_last = float(f["t"][n - 1]) if n else 0.0
+            return (f"an fputlab {_attr(attrs.get('kind', ''))} results file, status {status!r}, "
+                    f"{n} samples up to t = {t_last:.10g}")
+    except Exception:           # noqa: BLE001 - a description only; the refusal is what matters
+        return f"{size} bytes, not a readable HDF5 file"
+
+
+def _check_output_paths(out, checkpoint, resume: bool, overwrite: bool) -> bool:
+    """Refuse output paths that would destroy data, before anything is written. Returns whether
+    the run resumes from `checkpoint`."""
+    out = os.fspath(out)
+    if not out:
+        raise ValueError("out: empty file name")
+    if os.path.isdir(out):
+        raise ValueError(f"out: {out!r} is a directory, not a results file")
+    if checkpoint is not None:
+        checkpoint = os.fspath(checkpoint)
+        if not checkpoint:
+            raise ValueError("checkpoint: empty file name")
+        if _same_file(out, checkpoint):
+            raise ValueError(f"checkpoint: {checkpoint!r} is the results file itself (out); "
+                             "give the checkpoint its own name")
+        if os.path.isdir(checkpoint):
+            raise ValueError(f"checkpoint: {checkpoint!r} is a directory")
+    resuming = checkpoint is not None and resume and os.path.exists(checkpoint)
+    if not resuming and os.path.exists(out) and not overwrite:
+        if checkpoint is None:
+            how = "give the checkpoint it was written with to continue it"
+        elif not resume:
+            how = "restarting from t = 0 replaces it"
+        elif os.path.islink(checkpoint):
+            how = (f"its checkpoint {checkpoint!r} is a symbolic link to the missing "
+                   f"{os.path.realpath(checkpoint)!r}, so it cannot be continued")
+        else:
+            how = f"its checkpoint {checkpoint!r} does not exist, so it cannot be continued"
+        raise FileExistsError(f"out: {out!r} exists ({_describe_existing(out)}); {how}. Not "
+                              "overwritten: pass overwrite=True (command line: --overwrite) to "
+                              "replace it, or choose another file")
+    return resuming
+
+
+#: seconds a child process gets to read a results file and its checkpoint back before a resume
+VERIFY_TIMEOUT = 120.0
+
+
+def _verify_resume(out, lattice: Lattice, info: _RunInfo, checkpoint) -> None:
+    """fpl_results_verify (reads back everything a resume keeps) in a child process, so that a
+    damaged file that crashes or hangs libhdf5 costs the child, not this process: a crash or a
+    hang becomes an OSError naming the files. Then the resume itself (same reads) is safe."""
+    out_b, ck_b = os.fspath(out).encode(), os.fspath(checkpoint).encode()
+    if not hasattr(os, "fork"):
+        check(lib.fpl_results_verify(out_b, lattice._h, info.c, ck_b))
+        return
+    import select
+    rfd, wfd = os.pipe()
+    pid = os.fork()
+    if pid == 0:                                     # child: C only, then _exit
+        try:
+            os.close(rfd)
+            import faulthandler
+            faulthandler.disable()                   # a crash here is reported by the parent
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            st = lib.fpl_results_verify(out_b, lattice._h, info.c, ck_b)
+            msg = ffi.string(lib.fpl_last_error()).decode(errors="replace") if st < 0 else ""
+            os.write(wfd, f"{st}\n{msg}".encode()[:60000])
+        finally:
+            os._exit(0)
+    os.close(wfd)
+    chunks, deadline = [], time.monotonic() + VERIFY_TIMEOUT
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                pid = 0
+                raise OSError(f"checking {os.fspath(out)!r} against its checkpoint "
+                              f"{os.fspath(checkpoint)!r} did not finish in {VERIFY_TIMEOUT:g} s "
+                              "(a damaged file can make libhdf5 loop); nothing was changed")
+            ready, _, _ = select.select([rfd], [], [], min(left, 0.5))
+            if ready:
+                b = os.read(rfd, 65536)
+                if not b:
+                    break
+                chunks.append(b)
+        _, wstatus = os.waitpid(pid, 0)
+        pid = 0
+    finally:
+        os.close(rfd)
+        if pid:                                      # interrupted while waiting
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+    if os.WIFSIGNALED(wstatus):
+        name = signal.Signals(os.WTERMSIG(wstatus)).name
+        raise OSError(f"{os.fspath(out)!r} or its checkpoint {os.fspath(checkpoint)!r} is corrupt: "
+                      f"reading them crashed libhdf5 ({name}, in a child process); nothing was "
+                      "changed")
+    text = b"".join(chunks).decode(errors="replace")
+    head, _, msg = text.partition("\n")
+    try:
+        st = int(head)
+    except ValueError:
+        raise OSError(f"checking {os.fspath(out)!r} for a resume failed without a status "
+                      "(child process)") from None
+    if st < 0:
+        if st in (lib.FPL_ERR_ARG, lib.FPL_ERR_UNKNOWN):
+            raise ValueError(msg)
+        raise OSError(msg)
 
 
 def _progress(total, desc, enabled, initial=0.0):
@@ -223,7 +359,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
                      checkpoint_every_steps: int | None = None,
                      checkpoint_every_seconds: float | None = 600.0, resume: bool = True,
                      chunk_rows: int = 256, progress: bool = False,
-                     max_steps_per_segment: int = 100_000) -> RunSummary:
+                     max_steps_per_segment: int = 100_000, overwrite: bool = False) -> RunSummary:
     """Integrate from t = 0 to t_end, writing samples (t, mode energies, energy, optionally the
     states) to the HDF5 file `out` as the run goes.
 
@@ -231,7 +367,12 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     and/or `checkpoint_every_seconds` seconds, at the end, and on SIGINT/SIGTERM (then the run
     stops with status "interrupted"). If the checkpoint exists and `resume`, the run continues
     from it (after checking it belongs to this lattice, method and options) and `out` is
-    truncated to the checkpoint's time. stop_on: stopping criteria as in fputlab.integrate."""
+    truncated to the checkpoint's time. A resume keeps the checkpoint's sample spacing (a
+    different `sample_every` is refused) and runs to the new `t_end`: a finished run can be
+    extended. stop_on: stopping criteria as in fputlab.integrate.
+
+    An existing `out` is never replaced unless `overwrite` (or continued from its checkpoint);
+    `out` and `checkpoint` must be different files."""
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     t_end = _real(t_end, "t_end")
@@ -241,15 +382,29 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     if dt is None and not adaptive:
         dt = 0.01
     every = t_end / 1000 if sample_every is None else _real(sample_every, "sample_every")
+    if sample_every is None and not adaptive:
+        every = max(every, _real(dt, "dt"))    # never below what a fixed step can resolve
     if not (math.isfinite(every) and every > 0):
         raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
+    if not adaptive:
+        from .integrate import check_steps
+        check_steps(t_end, _real(dt, "dt"), "t_end", t_end)
+    if not adaptive and every < _real(dt, "dt") * (1 - 1e-9):
+        raise ValueError(f"dt = {dt:g} is larger than the sample spacing {every:g}: a fixed-step "
+                         "method only reaches multiples of dt (use a smaller dt or sample less "
+                         "often)")
     k_steps, k_seconds = _check_every(checkpoint_every_steps, checkpoint_every_seconds)
+    max_steps_per_segment = _int(max_steps_per_segment, "max_steps_per_segment", C_LONG)
+    if max_steps_per_segment < 1:
+        raise ValueError(f"max_steps_per_segment must be >= 1 (got {max_steps_per_segment})")
+    chunk_rows = _int(chunk_rows, "chunk_rows")
+    if not 1 <= chunk_rows <= 2**31 - 1:
+        raise ValueError(f"chunk_rows must be in [1, 2**31) (got {chunk_rows})")
+    resuming = _check_output_paths(out, checkpoint, resume, overwrite)
     N = lattice.N
     orbit = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * N,))
     state0 = orbit[None, :] if deviations is None else np.concatenate(
         [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
-    n_samples = int(math.floor(t_end / every * (1 + 1e-12))) + 1
-    sample_t = lambda i: min(i * every, t_end)
 
     from .blowup import set_criteria
     set_criteria(lattice, stop_on)
@@ -258,12 +413,29 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
         info = _RunInfo(lattice, "simulate", method, integ.dt, rtol, atol, 0.0, integ.n_dev,
                         store_states, chunk_rows)
         resumed = None
-        if checkpoint is not None and resume and os.path.exists(checkpoint):
-            load_checkpoint(checkpoint, integ._h, info)
+        if resuming:
+            # the checkpoint's own sampling (its extras: sample spacing, final time) decides
+            # how the run continues; everything is checked before the results file is touched
+            settings = load_checkpoint(checkpoint, integ._h, info, 2)
+            if settings.size == 2:
+                ck_every = float(settings[0])
+                if sample_every is not None and every != ck_every:
+                    raise ValueError(f"sample_every: the checkpoint's run samples every "
+                                     f"{ck_every:.17g}, this run asks for {every:.17g}; the file "
+                                     "cannot mix two sample grids (refused, nothing changed)")
+                every = ck_every
+            if t_end < integ.t:
+                raise ValueError(f"t_end = {t_end:.17g} is before the checkpoint's time "
+                                 f"t = {integ.t:.17g}: nothing to continue (refused, nothing "
+                                 "changed)")
             resumed = integ.t
+            _verify_resume(out, lattice, info, checkpoint)
             results = ResultsFile(out, lattice, info, resume_from=checkpoint)
         else:
             results = ResultsFile(out, lattice, info)
+        settings = np.array([every, t_end])
+        n_samples = int(math.floor(t_end / every * (1 + 1e-12))) + 1
+        sample_t = lambda i: min(i * every, t_end)
         seg = math.inf if adaptive else max_steps_per_segment * dt
         summary = RunSummary("completed", integ.t, 0, resumed, 0, path=os.fspath(out))
         with results, _Stopper() as stopper:
@@ -271,7 +443,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
             cadence = _Cadence(checkpoint, k_steps, k_seconds, integ.steps)
 
             def save():
-                write_checkpoint(checkpoint, integ._h, info, results=results)
+                write_checkpoint(checkpoint, integ._h, info, settings, results=results)
                 summary.checkpoints += 1
                 cadence.mark(integ.steps)
 
@@ -327,16 +499,25 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
                   sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
                   checkpoint=None, checkpoint_every_steps: int | None = None,
                   checkpoint_every_seconds: float | None = 600.0, resume: bool = True,
-                  progress: bool = False, segment: float | None = None) -> RunSummary:
+                  progress: bool = False, segment: float | None = None,
+                  overwrite: bool = False) -> RunSummary:
     """mLE, SALI and GALI (fputlab.chaos.lyapunov) written to /chaos of the HDF5 file `out` as
     the run goes, with checkpoints of the orbit, the deviation vectors and the accumulated
-    log-norms; restart continues bit for bit (fixed-step methods)."""
+    log-norms; restart continues bit for bit (fixed-step methods). A resume must use the
+    checkpoint's t_end, n_samples, renorm_interval, sali_threshold and stop_when_chaotic (they
+    fix the sample times and the classification); others are refused before anything changes.
+    An existing `out` is never replaced unless `overwrite` (or continued from its checkpoint)."""
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     t_end = _real(t_end, "t_end")
     if not (math.isfinite(t_end) and t_end > 0):
         raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
     k_steps, k_seconds = _check_every(checkpoint_every_steps, checkpoint_every_seconds)
+    if segment is not None:
+        segment = _real(segment, "segment")
+        if not (math.isfinite(segment) and segment > 0):
+            raise ValueError(f"segment must be finite and > 0 (got {segment:g})")
+    resuming = _check_output_paths(out, checkpoint, resume, overwrite)
     adaptive = method_info(method)["adaptive"]
     if dt is None and not adaptive:
         dt = 0.01
@@ -351,7 +532,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
     copt.t_end, copt.renorm_interval = t_end, _real(renorm_interval, "renorm_interval")
     copt.n_samples, copt.n_dev = _int(n_samples, "n_samples"), _int(n_dev, "n_dev")
     copt.sali_threshold = _real(sali_threshold, "sali_threshold")
-    copt.stop_when_chaotic, copt.seed = int(bool(stop_when_chaotic)), _int(seed, "seed")
+    copt.stop_when_chaotic, copt.seed = int(bool(stop_when_chaotic)), _int(seed, "seed", C_U64)
     out_h = ffi.new("fpl_chaos **")
     check(lib.fpl_chaos_create(lattice._h, method.encode(), iopt, 0.0, ptr(orbit), ffi.NULL, copt,
                                out_h))
@@ -359,11 +540,23 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
     ih = lib.fpl_chaos_integrator(c)
     info = _RunInfo(lattice, "chaos", method, iopt.dt, iopt.rtol, iopt.atol, 0.0, copt.n_dev)
     n_acc = lib.FPL_CHAOS_N_ACCUMULATORS
+    # what fixes the sample times and the classification: a resume must agree on all of it
+    settings = {"t_end": t_end, "n_samples": copt.n_samples,
+                "renorm_interval": copt.renorm_interval, "sali_threshold": copt.sali_threshold,
+                "stop_when_chaotic": float(copt.stop_when_chaotic)}
     resumed = None
-    if checkpoint is not None and resume and os.path.exists(checkpoint):
-        acc = load_checkpoint(checkpoint, ih, info, n_acc)
-        check(lib.fpl_chaos_restore(c, ptr(np.ascontiguousarray(acc))))
+    if resuming:
+        acc = load_checkpoint(checkpoint, ih, info, n_acc + len(settings))
+        if acc.size == n_acc + len(settings):
+            for (name, want), have in zip(settings.items(), acc[n_acc:]):
+                if have != want:
+                    raise ValueError(f"{name}: the checkpoint's run has {name} = {have:.17g}, "
+                                     f"this run {want:.17g}; a chaos run cannot change it when "
+                                     "resuming (it fixes the sample times; refused, nothing "
+                                     "changed)")
+        check(lib.fpl_chaos_restore(c, ptr(np.ascontiguousarray(acc[:n_acc]))))
         resumed = lib.fpl_integrator_time(ih)
+        _verify_resume(out, lattice, info, checkpoint)
         results = ResultsFile(out, lattice, info, resume_from=checkpoint)
     else:
         results = ResultsFile(out, lattice, info)
@@ -381,7 +574,8 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
         def save():
             acc = np.empty(n_acc)
             check(lib.fpl_chaos_save(c, ptr(acc)))
-            write_checkpoint(checkpoint, ih, info, acc, results)
+            write_checkpoint(checkpoint, ih, info, np.concatenate([acc, list(settings.values())]),
+                             results)
             summary.checkpoints += 1
             cadence.mark(steps[0])
 
@@ -453,30 +647,76 @@ class Results:
         return xr.Dataset(data, coords=coords, attrs=self.attrs)
 
 
-def _attr(v):
-    if isinstance(v, bytes):
-        return v.decode()
+def _attr(v, name: str = "attribute", path: str = ""):
+    if isinstance(v, (bytes, np.bytes_)):
+        try:
+            return bytes(v).decode()
+        except UnicodeDecodeError:
+            raise ValueError(f"{path}: attribute {name!r} is not valid UTF-8 text (corrupt file?)") \
+                from None
     if isinstance(v, np.generic):
         return v.item()
     return v
 
 
+def _dataset(f, name: str, path: str, ndim: int, cols: int | None = None, rows: int | None = None,
+             required: bool = True):
+    """A float dataset read whole, with its shape checked; None if absent and not required."""
+    if name not in f:
+        if required:
+            raise ValueError(f"{path}: dataset {name!r} is missing (incomplete or damaged results "
+                             "file)")
+        return None
+    d = f[name]
+    import h5py
+    if not isinstance(d, h5py.Dataset) or d.dtype.kind not in "fiu" or d.ndim != ndim or (
+            cols is not None and d.shape[1] != cols) or (rows is not None and d.shape[0] != rows):
+        want = f"{ndim}-D" + (f" with {cols} columns" if cols is not None else "") + (
+            f" and {rows} rows" if rows is not None else "")
+        got = f"shape {getattr(d, 'shape', None)}, dtype {getattr(d, 'dtype', None)}"
+        raise ValueError(f"{path}: dataset {name!r} has {got}, expected a numeric {want} dataset")
+    return np.asarray(d[()], dtype=np.float64)
+
+
 def load(path, *, as_xarray: bool = False):
     """Read a results file written by fputlab (C writer or CLI). Returns `Results` (numpy
-    arrays), or an xarray Dataset with as_xarray=True."""
+    arrays), or an xarray Dataset with as_xarray=True.
+
+    A file that is not an fputlab results file, lacks a dataset, has one of the wrong shape or
+    holds damaged data (checksums) raises ValueError or OSError naming the file and what is wrong."""
     import h5py
     path = os.fspath(path)
     if not os.path.exists(path):
         raise FileNotFoundError(f"path: no such file {path!r}")
-    with h5py.File(path, "r") as f:
-        attrs = {k: _attr(v) for k, v in f.attrs.items()}
-        if not str(attrs.get("schema", "")).startswith("fputlab-results/"):
-            raise ValueError(f"{path} is not an fputlab results file (schema {attrs.get('schema')!r})")
-        get = lambda name: f[name][()] if name in f else None
-        chaos = None
-        if "chaos" in f:
-            chaos = {k: f["chaos"][k][()] for k in ("t", "mle", "sali", "gali")}
-        res = Results(attrs=attrs, v=get("v"), t=get("t"), energy=get("energy"),
-                      mode_energies=get("mode_energies"), states=get("states"), chaos=chaos,
-                      path=path)
+    try:
+        f = h5py.File(path, "r")
+    except OSError as err:
+        raise OSError(f"{path} is not a readable HDF5 file (damaged or another format): {err}") \
+            from None
+    try:
+        with f:
+            attrs = {k: _attr(v, k, path) for k, v in f.attrs.items()}
+            if not str(attrs.get("schema", "")).startswith("fputlab-results/"):
+                raise ValueError(f"{path} is not an fputlab results file "
+                                 f"(schema {attrs.get('schema')!r})")
+            v = _dataset(f, "v", path, 1)
+            t = _dataset(f, "t", path, 1)
+            energy = _dataset(f, "energy", path, 1, rows=t.size)
+            mode_energies = _dataset(f, "mode_energies", path, 2, cols=v.size, rows=t.size)
+            states = _dataset(f, "states", path, 2, rows=t.size, required=False)
+            if states is not None and states.shape[1] % (2 * v.size):
+                raise ValueError(f"{path}: dataset 'states' has {states.shape[1]} columns, not a "
+                                 f"multiple of 2N = {2 * v.size}")
+            chaos = None
+            if "chaos" in f:
+                tc = _dataset(f, "chaos/t", path, 1)
+                chaos = {"t": tc, **{k: _dataset(f, f"chaos/{k}", path, 1, rows=tc.size)
+                                     for k in ("mle", "sali", "gali")}}
+    except UnicodeDecodeError as err:
+        raise ValueError(f"{path}: a text attribute is not valid UTF-8 (corrupt file?): {err}") \
+            from None
+    except (OSError, RuntimeError, KeyError) as err:     # h5py: checksum, decompression, ...
+        raise OSError(f"{path} is damaged: reading it failed ({err})") from None
+    res = Results(attrs=attrs, v=v, t=t, energy=energy, mode_energies=mode_energies,
+                  states=states, chaos=chaos, path=path)
     return res.to_xarray() if as_xarray else res

@@ -41,10 +41,29 @@ def _real(value, name: str) -> float:
     return float(value)
 
 
-def _int(value, name: str) -> int:
+#: ranges of C integer parameters
+C_INT = (-2**31, 2**31 - 1)
+C_LONG = (-2**63, 2**63 - 1)
+C_U64 = (-2**63, 2**64 - 1)     # seeds (negative values get their own "must be >= 0" errors)
+
+
+def _int(value, name: str, bounds: tuple = C_INT) -> int:
+    """An integer parameter, checked against the range of the C type it goes to (int by
+    default): out of range is a ValueError naming it, not cffi's anonymous OverflowError."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    return int(value)
+    value = int(value)
+    lo, hi = bounds
+    if not lo <= value <= hi:
+        raise ValueError(f"{name} = {value} is out of range (it must lie in [{lo}, {hi}])")
+    return value
+
+
+#: parameters a Lattice is built from: fixed once built (the C lattice holds copies)
+_PARAMETERS = frozenset({"N", "alpha", "beta", "model", "model_code", "tau", "seed", "disorder"})
+
+#: bytes of memory per site of a lattice (C arrays, modes, Python copies), for the estimate
+_BYTES_PER_SITE = 8 * 24
 
 
 def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.ndarray:
@@ -53,7 +72,7 @@ def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.n
     gaussian: v = 1 + (tau/300) z (the paper); truncated: the same with ``|z| <= 3``; uniform:
     v = 1 + (tau/100) u, u in (-1, 1)."""
     N = _int(N, "N")
-    seed = _int(seed, "seed")
+    seed = _int(seed, "seed", C_U64)
     if seed < 0 or seed >= 2**64:
         raise ValueError(f"seed must be in [0, 2**64), got {seed}")
     if kind not in DISORDERS:
@@ -108,9 +127,15 @@ class Lattice:
         self.model_code = _model_code(model)
         self.model = ffi.string(lib.fpl_model_name(self.model_code)).decode()
         self.tau = _real(tau, "tau")
+        if not isinstance(disorder, str):
+            raise TypeError(f"disorder must be a string, got {type(disorder).__name__}")
+        if disorder not in DISORDERS:
+            raise ValueError(f"disorder {disorder!r} is unknown (known: {', '.join(DISORDERS)})")
         self.disorder = disorder
         if self.N < 2:
             raise ValueError(f"N must be >= 2 (got {self.N})")
+        from ._arrays import check_memory
+        check_memory(_BYTES_PER_SITE * self.N, f"a lattice of N = {self.N}")
         if v is not None:
             if self.tau != 0.0 or seed is not None:
                 raise ValueError("give either v or (tau, seed), not both")
@@ -120,7 +145,8 @@ class Lattice:
             if self.model_code == lib.FPL_MODEL_HOMOGENEOUS and self.tau != 0.0:
                 raise ValueError("tau: the homogeneous model has no disorder; "
                                  "use model='hamiltonian' or 'nonlinear'")
-            self.seed = int.from_bytes(os.urandom(4), "little") if seed is None else _int(seed, "seed")
+            self.seed = (int.from_bytes(os.urandom(4), "little") if seed is None
+                         else _int(seed, "seed", C_U64))
             v_arr = draw_disorder(self.N, self.tau, self.seed, disorder)
         else:
             self.seed = None
@@ -128,6 +154,18 @@ class Lattice:
         out = ffi.new("fpl_lattice **")
         check(lib.fpl_lattice_create(self.N, self.alpha, self.beta, self.model_code, ptr(v_arr), out))
         self._h = ffi.gc(out[0], lambda h: lib.fpl_lattice_free(ffi.new("fpl_lattice **", h)))
+        self._built = True
+
+    def __setattr__(self, name, value):
+        if name in _PARAMETERS and self.__dict__.get("_built"):
+            raise AttributeError(f"Lattice.{name} is read-only: the lattice was built from it; "
+                                 f"make a new Lattice(...) with {name}={value!r}")
+        object.__setattr__(self, name, value)
+
+    def __delattr__(self, name):
+        if name in _PARAMETERS or name in ("_h", "_built"):
+            raise AttributeError(f"Lattice.{name} cannot be deleted")
+        object.__delattr__(self, name)
 
     # -- parameters ---------------------------------------------------------------------------
     @property
@@ -319,5 +357,6 @@ class Lattice:
 
 def _rebuild(N, alpha, model, beta, v, tau, seed, disorder):
     lat = Lattice(N, alpha, model, beta=beta, v=v)
-    lat.tau, lat.seed, lat.disorder = tau, seed, disorder
+    for name, value in (("tau", tau), ("seed", seed), ("disorder", disorder)):
+        object.__setattr__(lat, name, value)
     return lat

@@ -31,7 +31,7 @@ from ._display import ResultMixin
 from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
-from .lattice import DISORDERS, Lattice, _int, _model_code, _real
+from .lattice import C_U64, DISORDERS, Lattice, _int, _model_code, _real
 
 #: order of the raw coefficients everywhere (mode-1 equation a, mode-2 equation b)
 COEFFICIENT_NAMES = ("a1", "a2", "a3", "b1", "b2", "b3")
@@ -101,7 +101,7 @@ def _draws(N: int, seeds, kind: str) -> np.ndarray:
     """Standardised draws z (R, N) from GSL mt19937, one seed per realisation (as draw_disorder)."""
     if kind not in DISORDERS:
         raise ValueError(f"disorder {kind!r} is unknown (known: {', '.join(DISORDERS)})")
-    seeds = [_int(s, "seed") for s in seeds]
+    seeds = [_int(s, "seed", C_U64) for s in seeds]
     z = np.empty((len(seeds), N))
     for r, s in enumerate(seeds):
         if s < 0 or s >= 2**64:
@@ -322,7 +322,7 @@ def realisation_quadratics(N: int = 64, alpha: float = 0.25, R: int = 100, *, se
     N, R = _int(N, "N"), _int(R, "R")
     if R < 1:
         raise ValueError(f"R must be >= 1 (got {R})")
-    seeds = np.arange(_int(seed0, "seed0"), _int(seed0, "seed0") + R)
+    seeds = np.arange(_int(seed0, "seed0", C_U64), _int(seed0, "seed0", C_U64) + R)
     z = _draws(N, seeds, kind)
     diag, off = quadratic_forms(N, alpha)
     g = diag.copy()                     # M 1
@@ -375,7 +375,7 @@ def ensemble_statistics(tau, N: int = 64, alpha: float = 0.25, R: int = 100, *, 
     taus = as_float_array(tau, "tau")
     if taus.ndim != 1 or not np.all(np.isfinite(taus)) or np.any(taus < 0):
         raise ValueError("tau must be a 1-D array of finite values >= 0")
-    z = _draws(N, range(_int(seed0, "seed0"), _int(seed0, "seed0") + R), kind)
+    z = _draws(N, range(_int(seed0, "seed0", C_U64), _int(seed0, "seed0", C_U64) + R), kind)
     code, alpha = _model_code(model), _real(alpha, "alpha")
     sA, sB = _tilde_scales(N)
     At, Bt = np.empty((R, taus.size)), np.empty((R, taus.size))
@@ -686,6 +686,10 @@ class EnvelopeRun(ResultMixin):
         return 2.0 * np.real(q * phase)
 
 
+#: envelope_run's limit on RK4 steps (each kept: about 50 bytes and a few microseconds)
+ENVELOPE_MAX_STEPS = 2e7
+
+
 def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: int = 64,
                  dT: float = 1e-3, P_max: float | None = None) -> EnvelopeRun:
     """Integrate the envelope equations, Eq. (msfinal2), in the slow time T = eps t with
@@ -724,7 +728,11 @@ def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: in
         if q.shape != (2,) or not np.all(np.isfinite(q)):
             raise ValueError(f"q0 must be 2 finite (complex) numbers, got {q0!r}")
         q1, q2 = complex(q[0]), complex(q[1])
-    n = max(1, int(math.ceil(abs(T_end) / dT - 1e-9)))
+    steps = abs(T_end) / dT
+    if steps > ENVELOPE_MAX_STEPS:      # a Python loop keeping every step: refuse, do not hang
+        raise ValueError(f"dT = {dT:g} up to |T_end| = {abs(T_end):g} means {steps:.3g} RK4 steps, "
+                         f"more than {ENVELOPE_MAX_STEPS:.0e}: use a larger dT")
+    n = max(1, int(math.ceil(steps - 1e-9)))
     h = T_end / n if T_end != 0 else 0.0
     P_lim = math.inf if P_max is None else _finite_real(P_max, "P_max")
 

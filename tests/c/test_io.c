@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include "check.h"
 #include "fputlab.h"
@@ -40,7 +41,7 @@ static long read_rows(const char *path, const char *name, double *out, long cap)
     H5Sclose(s);
     H5Dclose(d);
     H5Fclose(f);
-    return nfilt >= 2 ? (long)dims[0] : -2; /* shuffle + deflate expected */
+    return nfilt >= 3 ? (long)dims[0] : -2; /* shuffle + deflate + Fletcher-32 expected */
 }
 
 static unsigned char *slurp(const char *path, long *len)
@@ -294,6 +295,74 @@ static void test_chaos_restart(fpl_lattice *lat, const double *y0)
           res.n_samples, ref.n_samples);
 }
 
+/* Damaged files: a truncated or bit-flipped checkpoint and changed results rows are refused by
+ * checksums (before HDF5 parses the checkpoint); a symlinked checkpoint stays a link. */
+static void test_integrity(fpl_lattice *lat, const double *y0)
+{
+    const char *path = tmpfile_in("integrity.h5"), *ck = tmpfile_in("integrity.ckpt");
+    fpl_run_info info;
+    fpl_run_info_init(&info);
+    info.method = "yoshida4";
+    info.dt = 0.01;
+    info.chunk_rows = 4;
+    fpl_integrator *h;
+    fpl_integrator_options iopt;
+    fpl_integrator_options_init(&iopt);
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, &iopt, 0.0, y0, &h));
+    fpl_results *r;
+    CHECK_OK(fpl_results_create(path, lat, &info, &r));
+    for (int i = 0; i < 10; i++) CHECK_OK(fpl_results_append(r, (double)i, y0));
+    CHECK_OK(fpl_checkpoint_write(ck, h, &info, NULL, 0, r));
+    CHECK_OK(fpl_results_close(&r));
+    CHECK_OK(fpl_results_verify(path, lat, &info, ck));
+    long len;
+    unsigned char *good = slurp(ck, &len);
+    for (int trial = 0; trial < 3; trial++) {
+        FILE *fp = fopen(ck, "wb");
+        if (trial == 0) fwrite(good, 1, (size_t)len / 2, fp);           /* truncated */
+        else {
+            good[trial == 1 ? 600 : 100] ^= 0x10;                     /* a flip: data, header */
+            fwrite(good, 1, (size_t)len, fp);
+            good[trial == 1 ? 600 : 100] ^= 0x10;
+        }
+        fclose(fp);
+        double t;
+        CHECK(fpl_checkpoint_peek(ck, &t, NULL) == FPL_ERR_IO && strstr(fpl_last_error(), "corrupt"),
+              "damaged checkpoint %d refused before parsing: %s", trial, fpl_last_error());
+        CHECK(fpl_results_verify(path, lat, &info, ck) == FPL_ERR_IO,
+              "verify refuses damaged checkpoint %d", trial);
+    }
+    FILE *fp = fopen(ck, "wb");
+    fwrite(good, 1, (size_t)len, fp);
+    fclose(fp);
+    free(good);
+    /* a row the checkpoint covers, changed through HDF5 itself (valid Fletcher-32): the
+     * checkpoint's row hashes catch it */
+    hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    hid_t d = H5Dopen2(f, "energy", H5P_DEFAULT), fs = H5Dget_space(d);
+    hsize_t start[1] = {1}, count[1] = {1};
+    H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL);
+    hid_t ms = H5Screate_simple(1, count, NULL);
+    double forged = 42.0;
+    H5Dwrite(d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, &forged);
+    H5Sclose(ms);
+    H5Sclose(fs);
+    H5Dclose(d);
+    H5Fclose(f);
+    CHECK(fpl_results_verify(path, lat, &info, ck) == FPL_ERR_IO && strstr(fpl_last_error(), "energy"),
+          "changed rows refused: %s", fpl_last_error());
+    CHECK(fpl_results_resume(path, lat, &info, ck, &r) == FPL_ERR_IO && r == NULL,
+          "resume refuses them too");
+    /* a checkpoint path that is a symbolic link: the target gets the file, the link stays */
+    const char *target = tmpfile_in("target.ckpt"), *link = tmpfile_in("link.ckpt");
+    CHECK(symlink(target, link) == 0, "symlink");
+    CHECK_OK(fpl_checkpoint_write(link, h, &info, NULL, 0, NULL));
+    struct stat sb;
+    CHECK(lstat(link, &sb) == 0 && S_ISLNK(sb.st_mode), "the link is still a link");
+    CHECK(stat(target, &sb) == 0 && S_ISREG(sb.st_mode), "its target holds the checkpoint");
+    fpl_integrator_free(&h);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/fputlab-test-io-XXXXXX");
@@ -311,6 +380,7 @@ int main(void)
     test_results(lat);
     test_checkpoint(lat, y1);
     test_chaos_restart(lat, y0);
+    test_integrity(lat, y0);
     fpl_lattice_free(&lat);
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
