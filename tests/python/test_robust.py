@@ -616,7 +616,8 @@ def test_ctrl_c_stops_long_computations_and_keeps_the_result(what, kind):
 def test_ctrl_c_in_the_cli_prints_what_was_computed_and_exits_130():
     code, out, err = _interrupt([sys.executable, "-c", "import sys\nfrom fputlab.cli import main\n"
                                  "print('start', flush=True)\nsys.exit(main(sys.argv[1:]))",
-                                 "simulate", "--N", "64", "--t-end", "3e8", "--json"])
+                                 "simulate", "--model", "homogeneous", "--N", "64", "--t-end", "3e8",
+                                 "--json"])
     assert code == 130, err
     s = json.loads(out)
     assert s["completed"] is False and "interrupted" in s["message"] and s["samples"] >= 1
