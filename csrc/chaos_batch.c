@@ -4,11 +4,12 @@
  * expression for expression (same operations in the same order, no reassociation), so a lane
  * reproduces the single-orbit run to the last bit when both are compiled alike.
  *
- * Layout: y[((2m + c) N + j) S + s] is component c (0 = x, 1 = p) of particle j of vector m
- * (0 = the orbit, 1..n_dev the deviation vectors) in slot s; S is the slot count, a multiple of
- * LANES. Slots are processed in groups of LANES (one AVX2 vector of doubles): a group runs a
- * whole renormalisation interval while its few kB of state stay in L1, with the loops over the
- * LANES slots of a group compiled to single vector instructions. Running lanes are kept in the
+ * Layout: slots (lanes) in groups of LANES (one AVX2 vector of doubles), each group's block
+ * contiguous: y[(g rows + (2m + c) N + j) LANES + w] is component c (0 = x, 1 = p) of particle j
+ * of vector m (0 = the orbit, 1..n_dev the deviation vectors) in slot s = g LANES + w, rows =
+ * 2N(1 + n_dev): element [j][r] with r contiguous within the group. A group runs a whole
+ * renormalisation interval while its few kB of state stay in L1, with the loops over its LANES
+ * slots compiled to single vector instructions. Running lanes are kept in the
  * first slots (compaction), so finished lanes cost nothing. */
 #include <math.h>
 #include <stdio.h>
@@ -23,12 +24,16 @@
 #define EVENT_BLOCK 16       /* as the splitting back end: criteria are checked every 16 steps */
 #define MSG_LEN 192
 #define FPL_INLINE static inline __attribute__((always_inline))
+/* A loop over the LANES slots of a group, kept as a loop so that GCC's loop vectoriser turns it
+ * into one vector operation (left to complete unrolling, the fused kick loses its vectors). */
+#define LANE_LOOP _Pragma("GCC unroll 1") for (int w = 0; w < LANES; w++)
 
 enum { N_LANE_ACC = 17, N_HEADER = 8 };
 #define SAVE_MAGIC 20261123.0
 
 struct fpl_chaos_batch {
     int R, n, k, model, S;
+    long rows;               /* 2N(1 + n_dev) rows of the state */
     double alpha, beta, dt, t0, T, t_first, tau;
     long n_renorm, n_steps, m;
     const fpl_splitting *scheme;
@@ -72,20 +77,35 @@ void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt)
 
 /* ---- the step over one group of LANES slots ---------------------------------------------- */
 
-#define ROW(base, r) ((base) + (size_t)(r) * S + s0)
+/* Row r of a group's block (each group's LANES slots are contiguous: [group][row][lane]). */
+#define ROW(base, r) ((base) + (size_t)(r) * LANES)
+
+/* The group's blocks of the state y and of the coefficients. */
+typedef struct grp {
+    double *y;
+    const double *cl, *cn, *sc, *minv;
+} grp;
+
+FPL_INLINE grp group_at(const fpl_chaos_batch *B, double *y, int g)
+{
+    const size_t cb = (size_t)g * B->n * LANES;
+    grp G = {y + (size_t)g * B->rows * LANES, B->cl + cb, B->cn + cb, B->sc + cb, B->minv + cb};
+    return G;
+}
 
 /* x^(m) += h minv p^(m) for the orbit and every deviation vector (splitting.c: drift). */
-FPL_INLINE void drift_group(const fpl_chaos_batch *B, double *y, int s0, double h, int model)
+FPL_INLINE void drift_group(const fpl_chaos_batch *B, grp G, double h, int model, int k)
 {
-    const int n = B->n, k = B->k;
-    const size_t S = (size_t)B->S;
+    const int n = B->n;
+    const size_t S = LANES;
+    double *y = G.y;
     for (int m = 0; m <= k; m++) {
         double *xm = y + (size_t)2 * n * m * S, *pm = xm + (size_t)n * S;
         for (int i = 0; i < n; i++) {
             double *restrict x = ROW(xm, i);
             const double *restrict p = ROW(pm, i);
             if (model == FPL_MODEL_HAMILTONIAN) {
-                const double *restrict mi = ROW(B->minv, i);
+                const double *restrict mi = ROW(G.minv, i);
                 for (int w = 0; w < LANES; w++) x[w] += h * mi[w] * p[w];
             } else {
                 /* minv = 1: h * 1 * p = h * p exactly */
@@ -95,173 +115,150 @@ FPL_INLINE void drift_group(const fpl_chaos_batch *B, double *y, int s0, double 
     }
 }
 
-/* p += h F(x), dp^(m) += h J(x) dx^(m) (models.c: kick_homogeneous / kick_generic; model 3 is
- * kick_generic with cl = s = 1, whose multiplications by 1 are exact and left out). */
-FPL_INLINE void kick_group(const fpl_chaos_batch *B, double *y, int s0, double h, int model)
+/* Bond b's force phi_b and curvature kap_b for the group (models.c: bond_forces_homogeneous /
+ * bond_forces_generic; model 3 is the generic form with cl = s = 1, whose multiplications by 1
+ * are exact and left out). which: 0 the left end (b = 0), 1 interior (b = j), 2 the right end
+ * (b = N, j = N). */
+FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int model,
+                     double *restrict phi, double *restrict kap)
 {
-    const int n = B->n, k = B->k;
-    const size_t S = (size_t)B->S;
     const double a = B->alpha, b = B->beta;
-    double *restrict phi = B->phi, *restrict kap = B->kap, *restrict dphi = B->dphi;
-    const double *x = y;
-    double *p = y + (size_t)n * S;
-    if (model == FPL_MODEL_HOMOGENEOUS) {
-        {
-            const double *restrict x0 = ROW(x, 0);
-            for (int w = 0; w < LANES; w++) {
-                double d = x0[w];
-                phi[w] = d + d * d * (a + b * d);
-                kap[w] = 1.0 + d * (2.0 * a + 3.0 * b * d);
+    const double *restrict xj = ROW(G.y, which == 2 ? j - 1 : j);
+    const double *restrict xl = ROW(G.y, which == 0 ? j : j - 1);
+    const int jc = which == 2 ? j - 1 : j, lc = which == 0 ? j : j - 1;
+    const double *restrict cnj = ROW(G.cn, jc), *restrict cnl = ROW(G.cn, lc);
+    const double *restrict clj = ROW(G.cl, jc), *restrict cll = ROW(G.cl, lc);
+    LANE_LOOP {
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            double d = which == 0 ? xj[w] : which == 1 ? xj[w] - xl[w] : -xl[w];
+            phi[w] = d + d * d * (a + b * d);
+            kap[w] = 1.0 + d * (2.0 * a + 3.0 * b * d);
+        } else {
+            const int plain = model == FPL_MODEL_NONLINEAR;
+            double L, R;
+            if (which == 0) {
+                L = plain ? xj[w] : clj[w] * xj[w];
+                R = cnj[w] * xj[w];
+            } else if (which == 1) {
+                L = plain ? xj[w] - xl[w] : clj[w] * xj[w] - cll[w] * xl[w];
+                R = cnj[w] * xj[w] - cnl[w] * xl[w];
+            } else {
+                L = plain ? -xl[w] : -cll[w] * xl[w];
+                R = -cnl[w] * xl[w];
             }
-        }
-        for (int j = 1; j < n; j++) {
-            const double *restrict xj = ROW(x, j), *restrict xl = ROW(x, j - 1);
-            double *restrict ph = phi + j * LANES, *restrict kp = kap + j * LANES;
-            for (int w = 0; w < LANES; w++) {
-                double d = xj[w] - xl[w];
-                ph[w] = d + d * d * (a + b * d);
-                kp[w] = 1.0 + d * (2.0 * a + 3.0 * b * d);
-            }
-        }
-        {
-            const double *restrict xl = ROW(x, n - 1);
-            double *restrict ph = phi + n * LANES, *restrict kp = kap + n * LANES;
-            for (int w = 0; w < LANES; w++) {
-                double d = -xl[w];
-                ph[w] = d + d * d * (a + b * d);
-                kp[w] = 1.0 + d * (2.0 * a + 3.0 * b * d);
-            }
-        }
-        for (int i = 0; i < n; i++) {
-            double *restrict pi = ROW(p, i);
-            const double *restrict f0 = phi + i * LANES, *restrict f1 = f0 + LANES;
-            for (int w = 0; w < LANES; w++) pi[w] += h * (f1[w] - f0[w]);
-        }
-        for (int m = 1; m <= k; m++) {
-            const double *dx = y + (size_t)2 * n * m * S;
-            double *dp = (double *)dx + (size_t)n * S;
-            {
-                const double *restrict d0 = ROW(dx, 0);
-                for (int w = 0; w < LANES; w++) dphi[w] = kap[w] * d0[w];
-            }
-            for (int j = 1; j < n; j++) {
-                const double *restrict dj = ROW(dx, j), *restrict dl = ROW(dx, j - 1);
-                const double *restrict kp = kap + j * LANES;
-                double *restrict df = dphi + j * LANES;
-                for (int w = 0; w < LANES; w++) df[w] = kp[w] * (dj[w] - dl[w]);
-            }
-            {
-                const double *restrict dl = ROW(dx, n - 1);
-                const double *restrict kp = kap + n * LANES;
-                double *restrict df = dphi + n * LANES;
-                for (int w = 0; w < LANES; w++) df[w] = -kp[w] * dl[w];
-            }
-            for (int i = 0; i < n; i++) {
-                double *restrict pi = ROW(dp, i);
-                const double *restrict f0 = dphi + i * LANES, *restrict f1 = f0 + LANES;
-                for (int w = 0; w < LANES; w++) pi[w] += h * (f1[w] - f0[w]);
-            }
-        }
-        return;
-    }
-    const int plain = model == FPL_MODEL_NONLINEAR; /* cl = s = 1 */
-    {
-        const double *restrict x0 = ROW(x, 0), *restrict cn0 = ROW(B->cn, 0),
-                     *restrict cl0 = ROW(B->cl, 0);
-        for (int w = 0; w < LANES; w++) {
-            double L = plain ? x0[w] : cl0[w] * x0[w], R = cn0[w] * x0[w];
             phi[w] = L + R * R * (a + b * R);
             kap[w] = R * (2.0 * a + 3.0 * b * R);
         }
     }
-    for (int j = 1; j < n; j++) {
-        const double *restrict xj = ROW(x, j), *restrict xl = ROW(x, j - 1);
-        const double *restrict cnj = ROW(B->cn, j), *restrict cnl = ROW(B->cn, j - 1);
-        const double *restrict clj = ROW(B->cl, j), *restrict cll = ROW(B->cl, j - 1);
-        double *restrict ph = phi + j * LANES, *restrict kp = kap + j * LANES;
-        for (int w = 0; w < LANES; w++) {
-            double L = plain ? xj[w] - xl[w] : clj[w] * xj[w] - cll[w] * xl[w];
-            double R = cnj[w] * xj[w] - cnl[w] * xl[w];
-            ph[w] = L + R * R * (a + b * R);
-            kp[w] = R * (2.0 * a + 3.0 * b * R);
-        }
-    }
-    {
-        const double *restrict xl = ROW(x, n - 1), *restrict cnl = ROW(B->cn, n - 1),
-                     *restrict cll = ROW(B->cl, n - 1);
-        double *restrict ph = phi + n * LANES, *restrict kp = kap + n * LANES;
-        for (int w = 0; w < LANES; w++) {
-            double L = plain ? -xl[w] : -cll[w] * xl[w], R = -cnl[w] * xl[w];
-            ph[w] = L + R * R * (a + b * R);
-            kp[w] = R * (2.0 * a + 3.0 * b * R);
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        double *restrict pi = ROW(p, i);
-        const double *restrict si = ROW(B->sc, i);
-        const double *restrict f0 = phi + i * LANES, *restrict f1 = f0 + LANES;
-        if (plain)
-            for (int w = 0; w < LANES; w++) pi[w] += h * (f1[w] - f0[w]);
-        else
-            for (int w = 0; w < LANES; w++) pi[w] += h * si[w] * (f1[w] - f0[w]);
-    }
-    for (int m = 1; m <= k; m++) {
-        const double *dx = y + (size_t)2 * n * m * S;
-        double *dp = (double *)dx + (size_t)n * S;
-        {
-            const double *restrict d0 = ROW(dx, 0), *restrict cn0 = ROW(B->cn, 0),
-                         *restrict cl0 = ROW(B->cl, 0);
-            for (int w = 0; w < LANES; w++)
-                dphi[w] = (plain ? d0[w] : cl0[w] * d0[w]) + kap[w] * cn0[w] * d0[w];
-        }
-        for (int j = 1; j < n; j++) {
-            const double *restrict dj = ROW(dx, j), *restrict dl = ROW(dx, j - 1);
-            const double *restrict cnj = ROW(B->cn, j), *restrict cnl = ROW(B->cn, j - 1);
-            const double *restrict clj = ROW(B->cl, j), *restrict cll = ROW(B->cl, j - 1);
-            const double *restrict kp = kap + j * LANES;
-            double *restrict df = dphi + j * LANES;
-            for (int w = 0; w < LANES; w++)
-                df[w] = (plain ? dj[w] - dl[w] : clj[w] * dj[w] - cll[w] * dl[w])
-                      + kp[w] * (cnj[w] * dj[w] - cnl[w] * dl[w]);
-        }
-        {
-            const double *restrict dl = ROW(dx, n - 1), *restrict cnl = ROW(B->cn, n - 1),
-                         *restrict cll = ROW(B->cl, n - 1);
-            const double *restrict kp = kap + n * LANES;
-            double *restrict df = dphi + n * LANES;
-            for (int w = 0; w < LANES; w++)
-                df[w] = (plain ? -dl[w] : -cll[w] * dl[w]) - kp[w] * cnl[w] * dl[w];
-        }
-        for (int i = 0; i < n; i++) {
-            double *restrict pi = ROW(dp, i);
-            const double *restrict si = ROW(B->sc, i);
-            const double *restrict f0 = dphi + i * LANES, *restrict f1 = f0 + LANES;
-            if (plain)
-                for (int w = 0; w < LANES; w++) pi[w] += h * (f1[w] - f0[w]);
+}
+
+/* Tangent bond force dphi_b of one deviation vector (rows dx) (models.c: bond_tangent_*). */
+FPL_INLINE void bond_tangent(grp G, const double *dx, int j, int which, int model,
+                             const double *restrict kap, double *restrict dphi)
+{
+    const double *restrict dj = ROW(dx, which == 2 ? j - 1 : j);
+    const double *restrict dl = ROW(dx, which == 0 ? j : j - 1);
+    const int jc = which == 2 ? j - 1 : j, lc = which == 0 ? j : j - 1;
+    const double *restrict cnj = ROW(G.cn, jc), *restrict cnl = ROW(G.cn, lc);
+    const double *restrict clj = ROW(G.cl, jc), *restrict cll = ROW(G.cl, lc);
+    LANE_LOOP {
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            dphi[w] = which == 0 ? kap[w] * dj[w]
+                    : which == 1 ? kap[w] * (dj[w] - dl[w]) : -kap[w] * dl[w];
+        } else {
+            const int plain = model == FPL_MODEL_NONLINEAR;
+            if (which == 0)
+                dphi[w] = (plain ? dj[w] : clj[w] * dj[w]) + kap[w] * cnj[w] * dj[w];
+            else if (which == 1)
+                dphi[w] = (plain ? dj[w] - dl[w] : clj[w] * dj[w] - cll[w] * dl[w])
+                        + kap[w] * (cnj[w] * dj[w] - cnl[w] * dl[w]);
             else
-                for (int w = 0; w < LANES; w++) pi[w] += h * si[w] * (f1[w] - f0[w]);
+                dphi[w] = (plain ? -dl[w] : -cll[w] * dl[w]) - kap[w] * cnl[w] * dl[w];
         }
     }
 }
 
+/* p_i += h s_i (phi_{i+1} - phi_i) (models.c: add_divergence; s = 1 except for model 2). */
+FPL_INLINE void divergence(grp G, double *p, int i, double h, int model,
+                           const double *restrict f1, const double *restrict f0)
+{
+    double *restrict pi = ROW(p, i);
+    const double *restrict si = ROW(G.sc, i);
+    LANE_LOOP {
+        if (model == FPL_MODEL_HAMILTONIAN) pi[w] += h * si[w] * (f1[w] - f0[w]);
+        else pi[w] += h * (f1[w] - f0[w]);
+    }
+}
+
+/* The kick p += h F(x), dp^(m) += h J(x) dx^(m), fused with the drift that follows it
+ * (x^(m) += hd minv p^(m)): one pass over the particles, the bond forces carried from one
+ * particle to the next in registers, and particle i drifted as soon as its kick is complete
+ * (bond i+1 done). Every element gets exactly the operations of kick-then-drift. */
+/* Bond j (which = 1 interior, 2 the right end with j = N) completes particle j-1's kick. */
+FPL_INLINE void kick_drift_particle(const fpl_chaos_batch *B, grp G, int j, int which, double h,
+                                    double hd, int model, int k, double *restrict fprev,
+                                    double *restrict dprev)
+{
+    const int n = B->n;
+    double *y = G.y, *p = y + (size_t)n * LANES;
+    double f[LANES], kap[LANES], df[LANES];
+    bond(B, G, j, which, model, f, kap);
+    divergence(G, p, j - 1, h, model, f, fprev);
+    LANE_LOOP fprev[w] = f[w];
+    for (int m = 1; m <= k; m++) {
+        double *dx = y + (size_t)2 * n * m * LANES;
+        bond_tangent(G, dx, j, which, model, kap, df);
+        double *restrict dp = dprev + (m - 1) * LANES;
+        divergence(G, dx + (size_t)n * LANES, j - 1, h, model, df, dp);
+        LANE_LOOP dp[w] = df[w];
+    }
+    /* particle j-1 is kicked: drift it (all vectors) */
+    for (int m = 0; m <= k; m++) {
+        double *restrict x = ROW(y + (size_t)2 * n * m * LANES, j - 1);
+        const double *restrict pm = ROW(y + (size_t)(2 * m + 1) * n * LANES, j - 1);
+        if (model == FPL_MODEL_HAMILTONIAN) {
+            const double *restrict mi = ROW(G.minv, j - 1);
+            LANE_LOOP x[w] += hd * mi[w] * pm[w];
+        } else {
+            LANE_LOOP x[w] += hd * pm[w];
+        }
+    }
+}
+
+/* The kick p += h F(x), dp^(m) += h J(x) dx^(m), fused with the drift that follows it
+ * (x^(m) += hd minv p^(m)): one pass over the particles, the previous bond's forces carried
+ * along, and particle i drifted as soon as its kick is complete (bond i+1 done). Every element
+ * gets exactly the operations of kick-then-drift. */
+FPL_INLINE void kick_drift_group(const fpl_chaos_batch *B, grp G, double h, double hd, int model,
+                                 int k)
+{
+    const int n = B->n;
+    double *restrict dprev = B->dphi;  /* k x LANES: dphi of the previous bond, per vector */
+    double fprev[LANES], kap[LANES];
+    bond(B, G, 0, 0, model, fprev, kap);
+    for (int m = 1; m <= k; m++)
+        bond_tangent(G, G.y + (size_t)2 * n * m * LANES, 0, 0, model, kap, dprev + (m - 1) * LANES);
+    for (int j = 1; j < n; j++) kick_drift_particle(B, G, j, 1, h, hd, model, k, fprev, dprev);
+    kick_drift_particle(B, G, n, 2, h, hd, model, k, fprev, dprev);
+}
+
 /* One step of the scheme (splitting.c: fpl_step_aba) for one group. */
-FPL_INLINE void step_group(const fpl_chaos_batch *B, double *y, int s0, double dt, int model)
+FPL_INLINE void step_group(const fpl_chaos_batch *B, grp G, double dt, int model, int k)
 {
     const fpl_splitting *sch = B->scheme;
     const int s = sch->n_kicks;
-    for (int i = 0; i < s; i++) {
-        drift_group(B, y, s0, sch->drift[i] * dt, model);
-        kick_group(B, y, s0, sch->kick[i] * dt, model);
-    }
-    drift_group(B, y, s0, sch->drift[s] * dt, model);
+    drift_group(B, G, sch->drift[0] * dt, model, k);
+    for (int i = 0; i < s; i++)
+        kick_drift_group(B, G, sch->kick[i] * dt, sch->drift[i + 1] * dt, model, k);
 }
 
 /* Criteria of the group's orbits (events.c: fpl_events_eval): fired[s] |= some criterion has
  * value >= threshold, or the value is not finite. */
-FPL_INLINE void check_group(const fpl_chaos_batch *B, const double *y, int s0, unsigned char *fired)
+FPL_INLINE void check_group(const fpl_chaos_batch *B, grp G, unsigned char *fired)
 {
     const int n = B->n;
-    const size_t S = (size_t)B->S;
+    const size_t S = LANES;
+    const double *y = G.y;
     const fpl_event_set *ev = &B->ev;
     int bad[LANES] = {0};
     for (int c = 0; c < ev->n; c++) {
@@ -283,10 +280,10 @@ FPL_INLINE void check_group(const fpl_chaos_batch *B, const double *y, int s0, u
         } else { /* FPL_EVENT_ENERGY (models.c: energy_with, c = cn for models 1-2, cl for 3) */
             const double a = B->alpha, b = B->beta;
             const double *p = y + (size_t)n * S;
-            const double *c = B->model == FPL_MODEL_HAMILTONIAN ? B->cn : B->cl;
+            const double *c = B->model == FPL_MODEL_HAMILTONIAN ? G.cn : G.cl;
             for (int w = 0; w < LANES; w++) v[w] = 0.0;
             for (int i = 0; i < n; i++) {
-                const double *restrict pi = ROW(p, i), *restrict mi = ROW(B->minv, i);
+                const double *restrict pi = ROW(p, i), *restrict mi = ROW(G.minv, i);
                 for (int w = 0; w < LANES; w++) v[w] += 0.5 * mi[w] * pi[w] * pi[w];
             }
             for (int j = 0; j <= n; j++) {
@@ -300,24 +297,27 @@ FPL_INLINE void check_group(const fpl_chaos_batch *B, const double *y, int s0, u
         /* NaN/Inf counts as fired, as in events.c */
         for (int w = 0; w < LANES; w++) bad[w] |= !(v[w] < thr);
     }
-    for (int w = 0; w < LANES; w++) fired[s0 + w] |= (unsigned char)bad[w];
+    for (int w = 0; w < LANES; w++) fired[w] |= (unsigned char)bad[w];
 }
 
 /* Advance one group by nsteps steps of dt; with criteria, check them every EVENT_BLOCK steps
  * (the lane's block boundaries are those of fpl_integrator_advance from the interval start). */
-FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int s0, long nsteps, double dt, int model)
+FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int g, long nsteps, double dt, int model,
+                          int k)
 {
+    const grp G = group_at(B, y, g);
+    const int s0 = g * LANES;
     if (B->ev.n == 0) {
-        for (long i = 0; i < nsteps; i++) step_group(B, y, s0, dt, model);
+        for (long i = 0; i < nsteps; i++) step_group(B, G, dt, model, k);
         return;
     }
     for (long done = 0; done < nsteps;) {
         long block = nsteps - done < EVENT_BLOCK ? nsteps - done : EVENT_BLOCK;
-        for (long i = 0; i < block; i++) step_group(B, y, s0, dt, model);
+        for (long i = 0; i < block; i++) step_group(B, G, dt, model, k);
         done += block;
         unsigned char before[LANES];
         memcpy(before, B->fired + s0, LANES);
-        check_group(B, y, s0, B->fired);
+        check_group(B, G, B->fired + s0);
         for (int w = 0; w < LANES; w++)
             if (B->fired[s0 + w] && !before[w]) B->fired_step[s0 + w] = done;
     }
@@ -326,19 +326,31 @@ FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int s0, long nsteps, do
 FPL_HOT static void run_groups_homogeneous(fpl_chaos_batch *B, double *y, int ng, long nsteps,
                                            double dt)
 {
-    for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g] * LANES, nsteps, dt, FPL_MODEL_HOMOGENEOUS);
+    /* two deviation vectors (mLE + SALI), the usual case, get a build of their own */
+    if (B->k == 2)
+        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HOMOGENEOUS, 2);
+    else
+        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HOMOGENEOUS, B->k);
 }
 
 FPL_HOT static void run_groups_hamiltonian(fpl_chaos_batch *B, double *y, int ng, long nsteps,
                                            double dt)
 {
-    for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g] * LANES, nsteps, dt, FPL_MODEL_HAMILTONIAN);
+    /* two deviation vectors (mLE + SALI), the usual case, get a build of their own */
+    if (B->k == 2)
+        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HAMILTONIAN, 2);
+    else
+        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HAMILTONIAN, B->k);
 }
 
 FPL_HOT static void run_groups_nonlinear(fpl_chaos_batch *B, double *y, int ng, long nsteps,
                                          double dt)
 {
-    for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g] * LANES, nsteps, dt, FPL_MODEL_NONLINEAR);
+    /* two deviation vectors (mLE + SALI), the usual case, get a build of their own */
+    if (B->k == 2)
+        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_NONLINEAR, 2);
+    else
+        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_NONLINEAR, B->k);
 }
 
 static void run_groups(fpl_chaos_batch *B, double *y, int ng, long nsteps, double dt)
@@ -351,90 +363,99 @@ static void run_groups(fpl_chaos_batch *B, double *y, int ng, long nsteps, doubl
 
 /* ---- renormalisation over slots [0, ns) (chaos.c: norm2, sali_unit, gali_unit) ------------ */
 
-/* nrm[i S + s] = ||w_i|| of slot s, fin[s] = 0 if the slot's orbit is finite (NaN otherwise). */
+/* nrm[i S + s] = ||w_i|| of slot s, fin[s] = 0 if the slot's orbit is finite (NaN otherwise);
+ * slots [0, ns), ns a multiple of LANES. */
 FPL_HOT static void slot_norms(const fpl_chaos_batch *B, const double *y, int ns)
 {
     const int n = B->n, k = B->k;
-    const size_t S = (size_t)B->S;
-    double *restrict fin = B->fin;
-    for (int s = 0; s < ns; s++) fin[s] = 0.0;
-    for (int r = 0; r < 2 * n; r++) {
-        const double *restrict row = y + (size_t)r * S;
-        for (int s = 0; s < ns; s++) fin[s] += row[s] * 0.0;
-    }
-    for (int i = 0; i < k; i++) {
-        double *restrict acc = B->nrm + (size_t)i * S;
-        const double *w = y + (size_t)2 * n * (i + 1) * S;
-        for (int s = 0; s < ns; s++) acc[s] = 0.0;
+    const size_t S = (size_t)B->S, rows = (size_t)B->rows;
+    for (int g = 0; g < ns / LANES; g++) {
+        const double *yg = y + (size_t)g * rows * LANES;
+        double *restrict fin = B->fin + g * LANES;
+        for (int w = 0; w < LANES; w++) fin[w] = 0.0;
         for (int r = 0; r < 2 * n; r++) {
-            const double *restrict row = w + (size_t)r * S;
-            for (int s = 0; s < ns; s++) acc[s] += row[s] * row[s];
+            const double *restrict row = yg + (size_t)r * LANES;
+            for (int w = 0; w < LANES; w++) fin[w] += row[w] * 0.0;
         }
-        for (int s = 0; s < ns; s++) acc[s] = sqrt(acc[s]);
+        for (int i = 0; i < k; i++) {
+            double *restrict acc = B->nrm + (size_t)i * S + g * LANES;
+            const double *wv = yg + (size_t)2 * n * (i + 1) * LANES;
+            for (int w = 0; w < LANES; w++) acc[w] = 0.0;
+            for (int r = 0; r < 2 * n; r++) {
+                const double *restrict row = wv + (size_t)r * LANES;
+                for (int w = 0; w < LANES; w++) acc[w] += row[w] * row[w];
+            }
+            for (int w = 0; w < LANES; w++) acc[w] = sqrt(acc[w]);
+        }
     }
 }
 
-/* q_i = w_i / ||w_i||, SALI(q_0, q_1) into acc1, GALI_k into gali (q destroyed). */
+/* q_i = w_i / ||w_i||, SALI(q_0, q_1) into acc1, GALI_k into gali (chaos.c: sali_unit,
+ * gali_unit, per slot). */
 FPL_HOT static void slot_indices(const fpl_chaos_batch *B, const double *y, int ns)
 {
     const int n = B->n, k = B->k, len = 2 * n;
-    const size_t S = (size_t)B->S;
-    for (int i = 0; i < k; i++) {
-        const double *w = y + (size_t)len * (i + 1) * S;
-        double *q = B->q + (size_t)len * i * S;
-        const double *restrict nr = B->nrm + (size_t)i * S;
-        for (int r = 0; r < len; r++) {
-            const double *restrict wr = w + (size_t)r * S;
-            double *restrict qr = q + (size_t)r * S;
-            for (int s = 0; s < ns; s++) qr[s] = wr[s] / nr[s];
-        }
-    }
-    if (k < 2) return;
-    double *restrict dm = B->acc1, *restrict dp = B->acc2, *restrict prod = B->gali;
-    for (int s = 0; s < ns; s++) dm[s] = dp[s] = 0.0;
-    for (int r = 0; r < len; r++) {
-        const double *restrict a = B->q + (size_t)r * S, *restrict b = B->q + (size_t)(len + r) * S;
-        for (int s = 0; s < ns; s++) {
-            dm[s] += (a[s] - b[s]) * (a[s] - b[s]);
-            dp[s] += (a[s] + b[s]) * (a[s] + b[s]);
-        }
-    }
-    for (int s = 0; s < ns; s++) dm[s] = sqrt(fmin(dm[s], dp[s]));
-    /* GALI by modified Gram-Schmidt; a zero pivot gives 0 (dp is reused as its flag) */
-    for (int s = 0; s < ns; s++) { prod[s] = 1.0; dp[s] = 1.0; }
-    double *restrict rr = B->fin + S; /* scratch after fin */
-    for (int i = 0; i < k; i++) {
-        double *qi = B->q + (size_t)len * i * S;
-        for (int s = 0; s < ns; s++) rr[s] = 0.0;
-        for (int r = 0; r < len; r++) {
-            const double *restrict row = qi + (size_t)r * S;
-            for (int s = 0; s < ns; s++) rr[s] += row[s] * row[s];
-        }
-        for (int s = 0; s < ns; s++) {
-            rr[s] = sqrt(rr[s]);
-            prod[s] *= rr[s];
-            dp[s] = rr[s] == 0.0 ? 0.0 : dp[s];
-        }
-        for (int r = 0; r < len; r++) {
-            double *restrict row = qi + (size_t)r * S;
-            for (int s = 0; s < ns; s++) row[s] /= rr[s];
-        }
-        for (int j = i + 1; j < k; j++) {
-            double *qj = B->q + (size_t)len * j * S;
-            double *restrict dot = B->inv; /* scratch until the scale is computed */
-            for (int s = 0; s < ns; s++) dot[s] = 0.0;
+    const size_t S = (size_t)B->S, rows = (size_t)B->rows;
+    for (int g = 0; g < ns / LANES; g++) {
+        const double *yg = y + (size_t)g * rows * LANES;
+        double *qg = B->q + (size_t)g * len * k * LANES;
+        for (int i = 0; i < k; i++) {
+            const double *wv = yg + (size_t)len * (i + 1) * LANES;
+            double *q = qg + (size_t)len * i * LANES;
+            const double *restrict nr = B->nrm + (size_t)i * S + g * LANES;
             for (int r = 0; r < len; r++) {
-                const double *restrict a = qi + (size_t)r * S, *restrict b = qj + (size_t)r * S;
-                for (int s = 0; s < ns; s++) dot[s] += a[s] * b[s];
-            }
-            for (int r = 0; r < len; r++) {
-                const double *restrict a = qi + (size_t)r * S;
-                double *restrict b = qj + (size_t)r * S;
-                for (int s = 0; s < ns; s++) b[s] -= dot[s] * a[s];
+                const double *restrict wr = wv + (size_t)r * LANES;
+                double *restrict qr = q + (size_t)r * LANES;
+                for (int w = 0; w < LANES; w++) qr[w] = wr[w] / nr[w];
             }
         }
+        if (k < 2) continue;
+        double *restrict dm = B->acc1 + g * LANES, *restrict dp = B->acc2 + g * LANES,
+               *restrict prod = B->gali + g * LANES, *restrict rr = B->fin + S + g * LANES,
+               *restrict dot = B->inv + g * LANES; /* inv: scratch until the scales are set */
+        for (int w = 0; w < LANES; w++) dm[w] = dp[w] = 0.0;
+        for (int r = 0; r < len; r++) {
+            const double *restrict a = qg + (size_t)r * LANES, *restrict b = qg + (size_t)(len + r) * LANES;
+            for (int w = 0; w < LANES; w++) {
+                dm[w] += (a[w] - b[w]) * (a[w] - b[w]);
+                dp[w] += (a[w] + b[w]) * (a[w] + b[w]);
+            }
+        }
+        for (int w = 0; w < LANES; w++) dm[w] = sqrt(fmin(dm[w], dp[w]));
+        /* GALI by modified Gram-Schmidt; a zero pivot gives 0 (dp is reused as its flag) */
+        for (int w = 0; w < LANES; w++) { prod[w] = 1.0; dp[w] = 1.0; }
+        for (int i = 0; i < k; i++) {
+            double *qi = qg + (size_t)len * i * LANES;
+            for (int w = 0; w < LANES; w++) rr[w] = 0.0;
+            for (int r = 0; r < len; r++) {
+                const double *restrict row = qi + (size_t)r * LANES;
+                for (int w = 0; w < LANES; w++) rr[w] += row[w] * row[w];
+            }
+            for (int w = 0; w < LANES; w++) {
+                rr[w] = sqrt(rr[w]);
+                prod[w] *= rr[w];
+                dp[w] = rr[w] == 0.0 ? 0.0 : dp[w];
+            }
+            for (int r = 0; r < len; r++) {
+                double *restrict row = qi + (size_t)r * LANES;
+                for (int w = 0; w < LANES; w++) row[w] /= rr[w];
+            }
+            for (int j = i + 1; j < k; j++) {
+                double *qj = qg + (size_t)len * j * LANES;
+                for (int w = 0; w < LANES; w++) dot[w] = 0.0;
+                for (int r = 0; r < len; r++) {
+                    const double *restrict a = qi + (size_t)r * LANES, *restrict b = qj + (size_t)r * LANES;
+                    for (int w = 0; w < LANES; w++) dot[w] += a[w] * b[w];
+                }
+                for (int r = 0; r < len; r++) {
+                    const double *restrict a = qi + (size_t)r * LANES;
+                    double *restrict b = qj + (size_t)r * LANES;
+                    for (int w = 0; w < LANES; w++) b[w] -= dot[w] * a[w];
+                }
+            }
+        }
+        for (int w = 0; w < LANES; w++) prod[w] = dp[w] == 0.0 ? 0.0 : prod[w];
     }
-    for (int s = 0; s < ns; s++) prod[s] = dp[s] == 0.0 ? 0.0 : prod[s];
 }
 
 /* w_i *= inv[i S + s] (fpl_integrator_transform_deviations with a diagonal matrix: the zero
@@ -442,35 +463,41 @@ FPL_HOT static void slot_indices(const fpl_chaos_batch *B, const double *y, int 
 FPL_HOT static void slot_scale(fpl_chaos_batch *B, int ns)
 {
     const int n = B->n, k = B->k, len = 2 * n;
-    const size_t S = (size_t)B->S;
-    for (int i = 0; i < k; i++) {
-        double *w = B->y + (size_t)len * (i + 1) * S;
-        const double *restrict sc = B->inv + (size_t)i * S;
-        for (int r = 0; r < len; r++) {
-            double *restrict row = w + (size_t)r * S;
-            for (int s = 0; s < ns; s++) row[s] *= sc[s];
+    const size_t S = (size_t)B->S, rows = (size_t)B->rows;
+    for (int g = 0; g < ns / LANES; g++) {
+        for (int i = 0; i < k; i++) {
+            double *wv = B->y + (size_t)g * rows * LANES + (size_t)len * (i + 1) * LANES;
+            const double *restrict sc = B->inv + (size_t)i * S + g * LANES;
+            for (int r = 0; r < len; r++) {
+                double *restrict row = wv + (size_t)r * LANES;
+                for (int w = 0; w < LANES; w++) row[w] *= sc[w];
+            }
         }
     }
 }
 
 /* ---- lanes ------------------------------------------------------------------------------- */
 
+/* Element (row, slot s) of an array of `rows` rows: [group][row][lane]. */
+static size_t at(long rows, long row, int s)
+{
+    return ((size_t)(s / LANES) * (size_t)rows + (size_t)row) * LANES + (size_t)(s % LANES);
+}
+
 static void slot_get(const fpl_chaos_batch *B, const double *y, int s, double *out)
 {
-    const long rows = 2L * B->n * (B->k + 1);
-    for (long r = 0; r < rows; r++) out[r] = y[(size_t)r * B->S + s];
+    for (long r = 0; r < B->rows; r++) out[r] = y[at(B->rows, r, s)];
 }
 
 static void slot_put(fpl_chaos_batch *B, int s, const double *in)
 {
-    const long rows = 2L * B->n * (B->k + 1);
-    for (long r = 0; r < rows; r++) B->y[(size_t)r * B->S + s] = in[r];
+    for (long r = 0; r < B->rows; r++) B->y[at(B->rows, r, s)] = in[r];
 }
 
 static void slot_coefficients(fpl_chaos_batch *B, int s, const fpl_lattice *lat)
 {
     for (int j = 0; j < B->n; j++) {
-        const size_t i = (size_t)j * B->S + s;
+        const size_t i = at(B->n, j, s);
         B->cl[i] = lat ? lat->cl[j] : 1.0;
         B->cn[i] = lat ? lat->cn[j] : 1.0;
         B->sc[i] = lat ? lat->s[j] : 1.0;
@@ -481,16 +508,14 @@ static void slot_coefficients(fpl_chaos_batch *B, int s, const fpl_lattice *lat)
 /* Empty slot: zero state and unit coefficients (stays finite and costs no NaN arithmetic). */
 static void slot_clear(fpl_chaos_batch *B, int s)
 {
-    const long rows = 2L * B->n * (B->k + 1);
-    for (long r = 0; r < rows; r++) B->y[(size_t)r * B->S + s] = 0.0;
+    for (long r = 0; r < B->rows; r++) B->y[at(B->rows, r, s)] = 0.0;
     slot_coefficients(B, s, NULL);
     B->orbit_of_slot[s] = -1;
 }
 
 static void slot_move(fpl_chaos_batch *B, int from, int to)
 {
-    const long rows = 2L * B->n * (B->k + 1);
-    for (long r = 0; r < rows; r++) B->y[(size_t)r * B->S + to] = B->y[(size_t)r * B->S + from];
+    for (long r = 0; r < B->rows; r++) B->y[at(B->rows, r, to)] = B->y[at(B->rows, r, from)];
     const int o = B->orbit_of_slot[from];
     slot_coefficients(B, to, B->lat[o]);
     B->orbit_of_slot[to] = o;
@@ -747,6 +772,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     B->k = k;
     B->model = lattices[0]->ops->model;
     B->S = (R + LANES - 1) / LANES * LANES;
+    B->rows = (long)len * (k + 1);
     B->alpha = lattices[0]->alpha;
     B->beta = lattices[0]->beta;
     B->dt = dt;
@@ -892,7 +918,7 @@ int fpl_chaos_batch_advance(fpl_chaos_batch *B, double t_until, double *t_out, d
                     unsigned char before[LANES];
                     int s0 = B->groups[g] * LANES;
                     memcpy(before, B->fired + s0, LANES);
-                    check_group(B, B->part, s0, B->fired);
+                    check_group(B, group_at(B, B->part, B->groups[g]), B->fired + s0);
                     for (int w = 0; w < LANES; w++)
                         if (B->fired[s0 + w] && !before[w])
                             B->fired_step[s0 + w] = n_target - n_start + 1;
