@@ -106,10 +106,10 @@ FPL_INLINE void drift_group(const fpl_chaos_batch *B, grp G, double h, int model
             const double *restrict p = ROW(pm, i);
             if (model == FPL_MODEL_HAMILTONIAN) {
                 const double *restrict mi = ROW(G.minv, i);
-                for (int w = 0; w < LANES; w++) x[w] += h * mi[w] * p[w];
+                LANE_LOOP x[w] += h * mi[w] * p[w];
             } else {
                 /* minv = 1: h * 1 * p = h * p exactly */
-                for (int w = 0; w < LANES; w++) x[w] += h * p[w];
+                LANE_LOOP x[w] += h * p[w];
             }
         }
     }
