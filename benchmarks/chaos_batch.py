@@ -6,7 +6,8 @@ mLE + SALI + GALI bookkeeping) run to t = T
   * together by fputlab.chaos_batch.lyapunov_batch (one call), and
   * one after the other by fputlab.chaos.lyapunov (the single-orbit fpl_chaos path),
 in the same process, minimum of `--repeats` runs each. Reported: ns per particle-step per orbit,
-wall / (steps x N x R), and the speed-up single / batch. One core (BLAS threads off).
+time / (steps x N x R), and the speed-up single / batch. Times are the process's CPU time (not
+wall time: on a shared machine the wall clock also counts other jobs' turns); one core.
 Usage: python benchmarks/chaos_batch.py [--t-end 200] [--methods yoshida4 srkn14a6] [--json out.json]
 """
 import argparse
@@ -25,9 +26,9 @@ DT = {"yoshida4": 0.01, "srkn14a6": 0.4, "aba864": 0.0625, "leapfrog": 0.005}
 def best_of(fn, repeats):
     best = float("inf")
     for _ in range(repeats):
-        t = time.perf_counter()
+        t = time.process_time()
         fn()
-        best = min(best, time.perf_counter() - t)
+        best = min(best, time.process_time() - t)
     return best
 
 

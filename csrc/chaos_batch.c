@@ -24,9 +24,6 @@
 #define EVENT_BLOCK 16       /* as the splitting back end: criteria are checked every 16 steps */
 #define MSG_LEN 192
 #define FPL_INLINE static inline __attribute__((always_inline))
-/* A loop over the LANES slots of a group, kept as a loop so that GCC's loop vectoriser turns it
- * into one vector operation (left to complete unrolling, the fused kick loses its vectors). */
-#define LANE_LOOP _Pragma("GCC unroll 1") for (int w = 0; w < LANES; w++)
 
 enum { N_LANE_ACC = 17, N_HEADER = 8 };
 #define SAVE_MAGIC 20261123.0
@@ -77,6 +74,13 @@ void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt)
 
 /* ---- the step over one group of LANES slots ---------------------------------------------- */
 
+/* A group's LANES doubles as one value: GCC's generic vectors (one AVX2 register in the
+ * x86-64-v3 clone, two SSE2 registers in the baseline one). Element-wise IEEE operations, so
+ * each lane computes exactly what the scalar code computes. Rows are 32-byte aligned. */
+typedef double vd __attribute__((vector_size(LANES * sizeof(double))));
+#define V(ptr) (*(vd *)(void *)(ptr))
+#define VC(ptr) (*(const vd *)(const void *)(ptr))
+
 /* Row r of a group's block (each group's LANES slots are contiguous: [group][row][lane]). */
 #define ROW(base, r) ((base) + (size_t)(r) * LANES)
 
@@ -97,20 +101,12 @@ FPL_INLINE grp group_at(const fpl_chaos_batch *B, double *y, int g)
 FPL_INLINE void drift_group(const fpl_chaos_batch *B, grp G, double h, int model, int k)
 {
     const int n = B->n;
-    const size_t S = LANES;
-    double *y = G.y;
     for (int m = 0; m <= k; m++) {
-        double *xm = y + (size_t)2 * n * m * S, *pm = xm + (size_t)n * S;
+        double *xm = G.y + (size_t)2 * n * m * LANES, *pm = xm + (size_t)n * LANES;
         for (int i = 0; i < n; i++) {
-            double *restrict x = ROW(xm, i);
-            const double *restrict p = ROW(pm, i);
-            if (model == FPL_MODEL_HAMILTONIAN) {
-                const double *restrict mi = ROW(G.minv, i);
-                LANE_LOOP x[w] += h * mi[w] * p[w];
-            } else {
-                /* minv = 1: h * 1 * p = h * p exactly */
-                LANE_LOOP x[w] += h * p[w];
-            }
+            /* minv = 1 except for model 2: h * 1 * p = h * p exactly */
+            if (model == FPL_MODEL_HAMILTONIAN) V(ROW(xm, i)) += h * VC(ROW(G.minv, i)) * VC(ROW(pm, i));
+            else V(ROW(xm, i)) += h * VC(ROW(pm, i));
         }
     }
 }
@@ -119,127 +115,105 @@ FPL_INLINE void drift_group(const fpl_chaos_batch *B, grp G, double h, int model
  * bond_forces_generic; model 3 is the generic form with cl = s = 1, whose multiplications by 1
  * are exact and left out). which: 0 the left end (b = 0), 1 interior (b = j), 2 the right end
  * (b = N, j = N). */
-FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int model,
-                     double *restrict phi, double *restrict kap)
+FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int model, vd *phi, vd *kap)
 {
     const double a = B->alpha, b = B->beta;
-    const double *restrict xj = ROW(G.y, which == 2 ? j - 1 : j);
-    const double *restrict xl = ROW(G.y, which == 0 ? j : j - 1);
     const int jc = which == 2 ? j - 1 : j, lc = which == 0 ? j : j - 1;
-    const double *restrict cnj = ROW(G.cn, jc), *restrict cnl = ROW(G.cn, lc);
-    const double *restrict clj = ROW(G.cl, jc), *restrict cll = ROW(G.cl, lc);
-    LANE_LOOP {
-        if (model == FPL_MODEL_HOMOGENEOUS) {
-            double d = which == 0 ? xj[w] : which == 1 ? xj[w] - xl[w] : -xl[w];
-            phi[w] = d + d * d * (a + b * d);
-            kap[w] = 1.0 + d * (2.0 * a + 3.0 * b * d);
-        } else {
-            const int plain = model == FPL_MODEL_NONLINEAR;
-            double L, R;
-            if (which == 0) {
-                L = plain ? xj[w] : clj[w] * xj[w];
-                R = cnj[w] * xj[w];
-            } else if (which == 1) {
-                L = plain ? xj[w] - xl[w] : clj[w] * xj[w] - cll[w] * xl[w];
-                R = cnj[w] * xj[w] - cnl[w] * xl[w];
-            } else {
-                L = plain ? -xl[w] : -cll[w] * xl[w];
-                R = -cnl[w] * xl[w];
-            }
-            phi[w] = L + R * R * (a + b * R);
-            kap[w] = R * (2.0 * a + 3.0 * b * R);
-        }
+    const vd xj = VC(ROW(G.y, jc)), xl = VC(ROW(G.y, lc));
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        const vd d = which == 0 ? xj : which == 1 ? xj - xl : -xl;
+        *phi = d + d * d * (a + b * d);
+        *kap = 1.0 + d * (2.0 * a + 3.0 * b * d);
+        return;
     }
+    const int plain = model == FPL_MODEL_NONLINEAR;
+    const vd cnj = VC(ROW(G.cn, jc)), cnl = VC(ROW(G.cn, lc));
+    vd L, R;
+    if (which == 0) {
+        L = plain ? xj : VC(ROW(G.cl, jc)) * xj;
+        R = cnj * xj;
+    } else if (which == 1) {
+        L = plain ? xj - xl : VC(ROW(G.cl, jc)) * xj - VC(ROW(G.cl, lc)) * xl;
+        R = cnj * xj - cnl * xl;
+    } else {
+        L = plain ? -xl : -VC(ROW(G.cl, lc)) * xl;
+        R = -cnl * xl;
+    }
+    *phi = L + R * R * (a + b * R);
+    *kap = R * (2.0 * a + 3.0 * b * R);
 }
 
 /* Tangent bond force dphi_b of one deviation vector (rows dx) (models.c: bond_tangent_*). */
-FPL_INLINE void bond_tangent(grp G, const double *dx, int j, int which, int model,
-                             const double *restrict kap, double *restrict dphi)
+FPL_INLINE void bond_tangent(grp G, const double *dx, int j, int which, int model, const vd *kp,
+                             vd *out)
 {
-    const double *restrict dj = ROW(dx, which == 2 ? j - 1 : j);
-    const double *restrict dl = ROW(dx, which == 0 ? j : j - 1);
+    const vd kap = *kp;
     const int jc = which == 2 ? j - 1 : j, lc = which == 0 ? j : j - 1;
-    const double *restrict cnj = ROW(G.cn, jc), *restrict cnl = ROW(G.cn, lc);
-    const double *restrict clj = ROW(G.cl, jc), *restrict cll = ROW(G.cl, lc);
-    LANE_LOOP {
-        if (model == FPL_MODEL_HOMOGENEOUS) {
-            dphi[w] = which == 0 ? kap[w] * dj[w]
-                    : which == 1 ? kap[w] * (dj[w] - dl[w]) : -kap[w] * dl[w];
-        } else {
-            const int plain = model == FPL_MODEL_NONLINEAR;
-            if (which == 0)
-                dphi[w] = (plain ? dj[w] : clj[w] * dj[w]) + kap[w] * cnj[w] * dj[w];
-            else if (which == 1)
-                dphi[w] = (plain ? dj[w] - dl[w] : clj[w] * dj[w] - cll[w] * dl[w])
-                        + kap[w] * (cnj[w] * dj[w] - cnl[w] * dl[w]);
-            else
-                dphi[w] = (plain ? -dl[w] : -cll[w] * dl[w]) - kap[w] * cnl[w] * dl[w];
-        }
+    const vd dj = VC(ROW(dx, jc)), dl = VC(ROW(dx, lc));
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        *out = which == 0 ? kap * dj : which == 1 ? kap * (dj - dl) : -kap * dl;
+        return;
     }
+    const int plain = model == FPL_MODEL_NONLINEAR;
+    const vd cnj = VC(ROW(G.cn, jc)), cnl = VC(ROW(G.cn, lc));
+    if (which == 0)
+        *out = (plain ? dj : VC(ROW(G.cl, jc)) * dj) + kap * cnj * dj;
+    else if (which == 1)
+        *out = (plain ? dj - dl : VC(ROW(G.cl, jc)) * dj - VC(ROW(G.cl, lc)) * dl)
+             + kap * (cnj * dj - cnl * dl);
+    else
+        *out = (plain ? -dl : -VC(ROW(G.cl, lc)) * dl) - kap * cnl * dl;
 }
 
 /* p_i += h s_i (phi_{i+1} - phi_i) (models.c: add_divergence; s = 1 except for model 2). */
-FPL_INLINE void divergence(grp G, double *p, int i, double h, int model,
-                           const double *restrict f1, const double *restrict f0)
+FPL_INLINE void divergence(grp G, double *p, int i, double h, int model, const vd *f1,
+                           const vd *f0)
 {
-    double *restrict pi = ROW(p, i);
-    const double *restrict si = ROW(G.sc, i);
-    LANE_LOOP {
-        if (model == FPL_MODEL_HAMILTONIAN) pi[w] += h * si[w] * (f1[w] - f0[w]);
-        else pi[w] += h * (f1[w] - f0[w]);
-    }
+    if (model == FPL_MODEL_HAMILTONIAN) V(ROW(p, i)) += h * VC(ROW(G.sc, i)) * (*f1 - *f0);
+    else V(ROW(p, i)) += h * (*f1 - *f0);
 }
 
-/* The kick p += h F(x), dp^(m) += h J(x) dx^(m), fused with the drift that follows it
- * (x^(m) += hd minv p^(m)): one pass over the particles, the bond forces carried from one
- * particle to the next in registers, and particle i drifted as soon as its kick is complete
- * (bond i+1 done). Every element gets exactly the operations of kick-then-drift. */
-/* Bond j (which = 1 interior, 2 the right end with j = N) completes particle j-1's kick. */
+/* Bond j (which = 1 interior, 2 the right end with j = N) completes particle j-1's kick; then
+ * particle j-1 is drifted (all vectors). */
 FPL_INLINE void kick_drift_particle(const fpl_chaos_batch *B, grp G, int j, int which, double h,
-                                    double hd, int model, int k, double *restrict fprev,
-                                    double *restrict dprev)
+                                    double hd, int model, int k, vd *fprev, vd *dprev)
 {
     const int n = B->n;
     double *y = G.y, *p = y + (size_t)n * LANES;
-    double f[LANES], kap[LANES], df[LANES];
-    bond(B, G, j, which, model, f, kap);
-    divergence(G, p, j - 1, h, model, f, fprev);
-    LANE_LOOP fprev[w] = f[w];
+    vd f, kap;
+    bond(B, G, j, which, model, &f, &kap);
+    divergence(G, p, j - 1, h, model, &f, fprev);
+    *fprev = f;
     for (int m = 1; m <= k; m++) {
         double *dx = y + (size_t)2 * n * m * LANES;
-        bond_tangent(G, dx, j, which, model, kap, df);
-        double *restrict dp = dprev + (m - 1) * LANES;
-        divergence(G, dx + (size_t)n * LANES, j - 1, h, model, df, dp);
-        LANE_LOOP dp[w] = df[w];
+        vd df;
+        bond_tangent(G, dx, j, which, model, &kap, &df);
+        divergence(G, dx + (size_t)n * LANES, j - 1, h, model, &df, &dprev[m - 1]);
+        dprev[m - 1] = df;
     }
-    /* particle j-1 is kicked: drift it (all vectors) */
     for (int m = 0; m <= k; m++) {
-        double *restrict x = ROW(y + (size_t)2 * n * m * LANES, j - 1);
-        const double *restrict pm = ROW(y + (size_t)(2 * m + 1) * n * LANES, j - 1);
-        if (model == FPL_MODEL_HAMILTONIAN) {
-            const double *restrict mi = ROW(G.minv, j - 1);
-            LANE_LOOP x[w] += hd * mi[w] * pm[w];
-        } else {
-            LANE_LOOP x[w] += hd * pm[w];
-        }
+        double *x = ROW(y + (size_t)2 * n * m * LANES, j - 1);
+        const double *pm = ROW(y + (size_t)(2 * m + 1) * n * LANES, j - 1);
+        if (model == FPL_MODEL_HAMILTONIAN) V(x) += hd * VC(ROW(G.minv, j - 1)) * VC(pm);
+        else V(x) += hd * VC(pm);
     }
 }
 
 /* The kick p += h F(x), dp^(m) += h J(x) dx^(m), fused with the drift that follows it
  * (x^(m) += hd minv p^(m)): one pass over the particles, the previous bond's forces carried
  * along, and particle i drifted as soon as its kick is complete (bond i+1 done). Every element
- * gets exactly the operations of kick-then-drift. */
+ * gets exactly the operations of kick-then-drift, in the same order. */
 FPL_INLINE void kick_drift_group(const fpl_chaos_batch *B, grp G, double h, double hd, int model,
                                  int k)
 {
     const int n = B->n;
-    double *restrict dprev = B->dphi;  /* k x LANES: dphi of the previous bond, per vector */
-    double fprev[LANES], kap[LANES];
-    bond(B, G, 0, 0, model, fprev, kap);
+    vd *dprev = (vd *)(void *)B->dphi; /* k: dphi of the previous bond, per deviation vector */
+    vd fprev, kap;
+    bond(B, G, 0, 0, model, &fprev, &kap);
     for (int m = 1; m <= k; m++)
-        bond_tangent(G, G.y + (size_t)2 * n * m * LANES, 0, 0, model, kap, dprev + (m - 1) * LANES);
-    for (int j = 1; j < n; j++) kick_drift_particle(B, G, j, 1, h, hd, model, k, fprev, dprev);
-    kick_drift_particle(B, G, n, 2, h, hd, model, k, fprev, dprev);
+        bond_tangent(G, G.y + (size_t)2 * n * m * LANES, 0, 0, model, &kap, &dprev[m - 1]);
+    for (int j = 1; j < n; j++) kick_drift_particle(B, G, j, 1, h, hd, model, k, &fprev, dprev);
+    kick_drift_particle(B, G, n, 2, h, hd, model, k, &fprev, dprev);
 }
 
 /* One step of the scheme (splitting.c: fpl_step_aba) for one group. */
@@ -744,8 +718,16 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
     return FPL_OK;
 }
 
-static size_t at_least_one(size_t count) { return count > 0 ? count : 1; }
-#define ALLOC(p, count) ((p) = calloc(at_least_one((size_t)(count)), sizeof *(p)))
+/* Zeroed, 32-byte aligned (whole vd rows), never of size 0. */
+static void *zalloc(size_t count, size_t size)
+{
+    size_t bytes = (count > 0 ? count : 1) * size;
+    bytes = (bytes + 31) / 32 * 32;
+    void *p = aligned_alloc(32, bytes);
+    if (p) memset(p, 0, bytes);
+    return p;
+}
+#define ALLOC(p, count) ((p) = zalloc((size_t)(count), sizeof *(p)))
 
 int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *method,
                            const fpl_integrator_options *io, double t0, const double *y0,
@@ -798,7 +780,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     ALLOC(B->minv, (size_t)n * S);
     ALLOC(B->phi, (size_t)(n + 1) * LANES);
     ALLOC(B->kap, (size_t)(n + 1) * LANES);
-    ALLOC(B->dphi, (size_t)(n + 1) * LANES);
+    ALLOC(B->dphi, (size_t)(n + 1 > k ? n + 1 : k) * LANES);
     ALLOC(B->nrm, (size_t)k * S);
     ALLOC(B->inv, (size_t)k * S);
     ALLOC(B->acc1, S);
