@@ -119,3 +119,25 @@ def test_bad_lattices():
     with pytest.raises(ValueError, match=r"lattices\[1\]: model"):
         lyapunov_batch([fputlab.Lattice(8), fputlab.Lattice(8, 0.25, "nonlinear", tau=10, seed=1)],
                        10.0)
+
+
+@pytest.mark.parametrize("kind,factor", [("energy", 1.001), ("displacement", 1.001),
+                                          ("stretch", 1.05)])
+def test_criteria_fire_as_in_a_single_orbit_blowup_run(kind, factor):
+    """Each lane stops where fputlab.blowup.blowup_time (the single-orbit event location) puts
+    the event, or not at all if it does not fire there."""
+    y = fputlab.Lattice(16, 0.25).mode_state(amplitude=2.0)
+    lats = [fputlab.Lattice(16, 0.25, "nonlinear", tau=20.0, seed=s) for s in (4, 5, 6, 7)]
+    value = {"energy": lats[0].energy(y), "displacement": np.abs(y[:16]).max(),
+             "stretch": np.abs(np.diff(np.r_[0.0, y[:16], 0.0])).max()}[kind]
+    crit = [(kind, factor * value)]
+    batch = lyapunov_batch(lats, 300.0, y0=y, criteria=crit, n_samples=20)
+    for seed, res in zip((4, 5, 6, 7), batch):
+        ref = fputlab.blowup.blowup_time(fputlab.Lattice(16, 0.25, "nonlinear", tau=20.0, seed=seed),
+                                         300.0, y0=y, criteria=crit)
+        assert res.params["blew_up"] == ref.blew_up
+        if ref.blew_up:
+            assert res.params["blowup_reason"] == "event" and not res.completed
+            assert abs(res.params["t_blowup"] - ref.time) < 1e-9 * max(ref.time, 1.0)
+        else:
+            assert res.completed and res.t_final == 300.0
