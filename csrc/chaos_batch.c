@@ -49,7 +49,7 @@ struct fpl_chaos_batch {
     long *fired_step;              /* step (from the interval start) of the check that saw it */
     double *lane_y;                /* 2N(1+k): one lane, AoS */
     double *final_y;               /* R x 2N(1+k): state of each finished lane */
-    int *groups;
+    int *groups, *vgroups;
     /* per orbit */
     double *logsum;
     int *next, *pending;
@@ -277,11 +277,11 @@ FPL_INLINE void check_group(const fpl_chaos_batch *B, grp G, unsigned char *fire
 /* Advance one group by nsteps steps of dt; with criteria, check them every EVENT_BLOCK steps
  * (the lane's block boundaries are those of fpl_integrator_advance from the interval start). */
 FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int g, long nsteps, double dt, int model,
-                          int k)
+                          int k, int check)
 {
     const grp G = group_at(B, y, g);
     const int s0 = g * LANES;
-    if (B->ev.n == 0) {
+    if (B->ev.n == 0 || !check) {
         for (long i = 0; i < nsteps; i++) step_group(B, G, dt, model, k);
         return;
     }
@@ -297,42 +297,34 @@ FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int g, long nsteps, dou
     }
 }
 
-FPL_HOT static void run_groups_homogeneous(fpl_chaos_batch *B, double *y, int ng, long nsteps,
-                                           double dt)
+FPL_HOT static void run_groups_homogeneous(fpl_chaos_batch *B, double *y, const int *gl, int ng,
+                                            long nsteps, double dt, int check)
 {
     /* two deviation vectors (mLE + SALI), the usual case, get a build of their own */
     if (B->k == 2)
-        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HOMOGENEOUS, 2);
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_HOMOGENEOUS, 2, check);
     else
-        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HOMOGENEOUS, B->k);
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_HOMOGENEOUS, B->k, check);
 }
 
-FPL_HOT static void run_groups_hamiltonian(fpl_chaos_batch *B, double *y, int ng, long nsteps,
-                                           double dt)
+FPL_HOT static void run_groups_hamiltonian(fpl_chaos_batch *B, double *y, const int *gl, int ng,
+                                            long nsteps, double dt, int check)
 {
     /* two deviation vectors (mLE + SALI), the usual case, get a build of their own */
     if (B->k == 2)
-        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HAMILTONIAN, 2);
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_HAMILTONIAN, 2, check);
     else
-        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_HAMILTONIAN, B->k);
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_HAMILTONIAN, B->k, check);
 }
 
-FPL_HOT static void run_groups_nonlinear(fpl_chaos_batch *B, double *y, int ng, long nsteps,
-                                         double dt)
+FPL_HOT static void run_groups_nonlinear(fpl_chaos_batch *B, double *y, const int *gl, int ng,
+                                          long nsteps, double dt, int check)
 {
     /* two deviation vectors (mLE + SALI), the usual case, get a build of their own */
     if (B->k == 2)
-        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_NONLINEAR, 2);
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_NONLINEAR, 2, check);
     else
-        for (int g = 0; g < ng; g++) run_group(B, y, B->groups[g], nsteps, dt, FPL_MODEL_NONLINEAR, B->k);
-}
-
-static void run_groups(fpl_chaos_batch *B, double *y, int ng, long nsteps, double dt)
-{
-    if (nsteps <= 0 || ng <= 0) return;
-    if (B->model == FPL_MODEL_HOMOGENEOUS) run_groups_homogeneous(B, y, ng, nsteps, dt);
-    else if (B->model == FPL_MODEL_HAMILTONIAN) run_groups_hamiltonian(B, y, ng, nsteps, dt);
-    else run_groups_nonlinear(B, y, ng, nsteps, dt);
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_NONLINEAR, B->k, check);
 }
 
 /* ---- renormalisation over slots [0, ns) (chaos.c: norm2, sali_unit, gali_unit) ------------ */
@@ -532,6 +524,57 @@ static void compact(fpl_chaos_batch *B)
     for (int s = to; s < B->S && s < used + LANES; s++) slot_clear(B, s);
 }
 
+/* A group with a single running lane costs four lanes; from N = LONE_MIN_N on, that lane is
+ * cheaper stepped alone by the single-orbit code (splitting.c, vectorised along the chain), on a
+ * copy in the lattice's layout: the same arithmetic, so the same numbers. */
+#define LONE_MIN_N 12
+
+static void run_lone(fpl_chaos_batch *B, double *y, int s, long nsteps, double dt, int check)
+{
+    const int o = B->orbit_of_slot[s];
+    fpl_lattice *lat = B->lat[o];
+    const fpl_splitting *sch = B->scheme;
+    double *ly = B->lane_y;
+    slot_get(B, y, s, ly);
+    for (long done = 0; done < nsteps;) {
+        long block = B->ev.n > 0 && check ? (nsteps - done < EVENT_BLOCK ? nsteps - done : EVENT_BLOCK)
+                                          : nsteps - done;
+        for (long i = 0; i < block; i++) sch->step(sch, lat, ly, B->k, dt);
+        done += block;
+        if (B->ev.n > 0 && check && !B->fired[s]) {
+            double g[8];
+            fpl_events_eval(lat, ly, g);
+            for (int c = 0; c < B->ev.n; c++)
+                if (!(g[c] > 0.0)) {
+                    B->fired[s] = 1;
+                    B->fired_step[s] = done;
+                }
+        }
+    }
+    for (long r = 0; r < B->rows; r++) y[at(B->rows, r, s)] = ly[r];
+}
+
+/* Advance the groups with running lanes (B->groups[0..ng)) by nsteps steps of dt; check the
+ * criteria on the way if `check`. */
+static void run_groups(fpl_chaos_batch *B, double *y, int ng, long nsteps, double dt, int check)
+{
+    if (nsteps <= 0 || ng <= 0) return;
+    int nv = 0;
+    for (int g = 0; g < ng; g++) {
+        int running = 0, slot = -1;
+        for (int w = 0; w < LANES; w++) {
+            const int s = B->groups[g] * LANES + w, o = B->orbit_of_slot[s];
+            if (o >= 0 && !B->res[o].done) { running++; slot = s; }
+        }
+        if (running == 1 && B->n >= LONE_MIN_N) run_lone(B, y, slot, nsteps, dt, check);
+        else B->vgroups[nv++] = B->groups[g];
+    }
+    if (nv == 0) return;
+    if (B->model == FPL_MODEL_HOMOGENEOUS) run_groups_homogeneous(B, y, B->vgroups, nv, nsteps, dt, check);
+    else if (B->model == FPL_MODEL_HAMILTONIAN) run_groups_hamiltonian(B, y, B->vgroups, nv, nsteps, dt, check);
+    else run_groups_nonlinear(B, y, B->vgroups, nv, nsteps, dt, check);
+}
+
 /* Groups with at least one running lane. */
 static int active_groups(fpl_chaos_batch *B)
 {
@@ -626,6 +669,7 @@ void fpl_chaos_batch_free(fpl_chaos_batch **bp)
     free(B->lane_y);
     free(B->final_y);
     free(B->groups);
+    free(B->vgroups);
     free(B->logsum);
     free(B->next);
     free(B->pending);
@@ -792,6 +836,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     ALLOC(B->lane_y, (size_t)len * (k + 1));
     ALLOC(B->final_y, (size_t)len * (k + 1) * R);
     ALLOC(B->groups, S / LANES);
+    ALLOC(B->vgroups, S / LANES);
     ALLOC(B->logsum, R);
     ALLOC(B->next, R);
     ALLOC(B->pending, R);
@@ -800,7 +845,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     if (!B->lat || !B->orbit_of_slot || !B->slot_of_orbit || !B->y || !B->part ||
         (B->ev.n > 0 && !B->backup) || !B->q || !B->cl || !B->cn || !B->sc || !B->minv ||
         !B->phi || !B->kap || !B->dphi || !B->nrm || !B->inv || !B->acc1 || !B->acc2 ||
-        !B->gali || !B->fin || !B->fired || !B->fired_step || !B->lane_y || !B->final_y || !B->groups ||
+        !B->gali || !B->fin || !B->fired || !B->fired_step || !B->lane_y || !B->final_y || !B->groups || !B->vgroups ||
         !B->logsum || !B->next || !B->pending || !B->res || !B->msg) {
         fpl_chaos_batch_free(&B);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (chaos batch of %d orbits, N = %d)",
@@ -887,14 +932,14 @@ int fpl_chaos_batch_advance(fpl_chaos_batch *B, double t_until, double *t_out, d
         const int ng = active_groups(B), ns = ng ? (B->groups[ng - 1] + 1) * LANES : 0;
         if (B->backup) memcpy(B->backup, B->y, sizeof(double) * dim);
         memset(B->fired, 0, S);
-        run_groups(B, B->y, ng, n_target - n_start, dt);
+        run_groups(B, B->y, ng, n_target - n_start, dt, 1);
         B->n_steps = n_target;
         const double *yr = B->y;
         if (rest > 1e-9 * dt) {
             /* off the grid: one partial step from a copy, the grid state stays (as
              * fpl_integrator_advance does) */
             memcpy(B->part, B->y, sizeof(double) * dim);
-            run_groups(B, B->part, ng, 1, rest);
+            run_groups(B, B->part, ng, 1, rest, 0);
             if (B->ev.n > 0)
                 for (int g = 0; g < ng; g++) {
                     unsigned char before[LANES];

@@ -132,6 +132,13 @@ static void test_agreement(void)
         compare_with_single(l, 5, "leapfrog", 0.005, y0, w0, &bo, 1e-12, "nonlinear N=16 leapfrog n_dev=1");
         bo.n_dev = 2;
         free(w0);
+        /* a group holding one running lane at N >= 12 is stepped by the single-orbit code */
+        fpl_lattice *l64 = disordered(64, FPL_MODEL_NONLINEAR, 10.0, 5);
+        double *y64 = mode_states(&l64, 1, amp);
+        bo.t_end = 500.0;
+        compare_with_single(&l64, 1, "yoshida4", 0.01, y64, NULL, &bo, 1e-12, "nonlinear N=64 one lane");
+        free(y64);
+        fpl_lattice_free(&l64);
         free(y0);
         for (int r = 0; r < 6; r++) fpl_lattice_free(&l[r]);
     }
