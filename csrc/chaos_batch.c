@@ -46,6 +46,7 @@ struct fpl_chaos_batch {
     double *phi, *kap, *dphi;      /* (N+1) x LANES scratch of the kick */
     double *nrm, *inv, *acc1, *acc2, *gali, *fin;  /* per-slot renormalisation scratch */
     unsigned char *fired;          /* per slot: a criterion fired (or non-finite) in this interval */
+    unsigned char *vacated;        /* per slot: emptied by compaction, to be cleared */
     long *fired_step;              /* step (from the interval start) of the check that saw it */
     double *lane_y;                /* 2N(1+k): one lane, AoS */
     double *final_y;               /* R x 2N(1+k): state of each finished lane */
@@ -329,6 +330,14 @@ FPL_HOT static void run_groups_nonlinear(fpl_chaos_batch *B, double *y, const in
 
 /* ---- renormalisation over slots [0, ns) (chaos.c: norm2, sali_unit, gali_unit) ------------ */
 
+/* The renormalisation works on whole groups with the lane values as generic vectors (vd):
+ * element-wise sqrt, division and min are IEEE-exact per lane, so each lane gets the numbers of
+ * chaos.c's scalar loops (sums in the same order). */
+FPL_INLINE void vsqrt(vd *x)
+{
+    for (int w = 0; w < LANES; w++) (*x)[w] = sqrt((*x)[w]);
+}
+
 /* nrm[i S + s] = ||w_i|| of slot s, fin[s] = 0 if the slot's orbit is finite (NaN otherwise);
  * slots [0, ns), ns a multiple of LANES. */
 FPL_HOT static void slot_norms(const fpl_chaos_batch *B, const double *y, int ns)
@@ -337,21 +346,18 @@ FPL_HOT static void slot_norms(const fpl_chaos_batch *B, const double *y, int ns
     const size_t S = (size_t)B->S, rows = (size_t)B->rows;
     for (int g = 0; g < ns / LANES; g++) {
         const double *yg = y + (size_t)g * rows * LANES;
-        double *restrict fin = B->fin + g * LANES;
-        for (int w = 0; w < LANES; w++) fin[w] = 0.0;
-        for (int r = 0; r < 2 * n; r++) {
-            const double *restrict row = yg + (size_t)r * LANES;
-            for (int w = 0; w < LANES; w++) fin[w] += row[w] * 0.0;
-        }
+        vd fin = {0};
+        for (int r = 0; r < 2 * n; r++) fin += VC(ROW(yg, r)) * 0.0;
+        V(B->fin + g * LANES) = fin;
         for (int i = 0; i < k; i++) {
-            double *restrict acc = B->nrm + (size_t)i * S + g * LANES;
             const double *wv = yg + (size_t)2 * n * (i + 1) * LANES;
-            for (int w = 0; w < LANES; w++) acc[w] = 0.0;
+            vd acc = {0};
             for (int r = 0; r < 2 * n; r++) {
-                const double *restrict row = wv + (size_t)r * LANES;
-                for (int w = 0; w < LANES; w++) acc[w] += row[w] * row[w];
+                const vd x = VC(ROW(wv, r));
+                acc += x * x;
             }
-            for (int w = 0; w < LANES; w++) acc[w] = sqrt(acc[w]);
+            vsqrt(&acc);
+            V(B->nrm + (size_t)i * S + g * LANES) = acc;
         }
     }
 }
@@ -368,59 +374,42 @@ FPL_HOT static void slot_indices(const fpl_chaos_batch *B, const double *y, int 
         for (int i = 0; i < k; i++) {
             const double *wv = yg + (size_t)len * (i + 1) * LANES;
             double *q = qg + (size_t)len * i * LANES;
-            const double *restrict nr = B->nrm + (size_t)i * S + g * LANES;
-            for (int r = 0; r < len; r++) {
-                const double *restrict wr = wv + (size_t)r * LANES;
-                double *restrict qr = q + (size_t)r * LANES;
-                for (int w = 0; w < LANES; w++) qr[w] = wr[w] / nr[w];
-            }
+            const vd nr = VC(B->nrm + (size_t)i * S + g * LANES);
+            for (int r = 0; r < len; r++) V(ROW(q, r)) = VC(ROW(wv, r)) / nr;
         }
         if (k < 2) continue;
-        double *restrict dm = B->acc1 + g * LANES, *restrict dp = B->acc2 + g * LANES,
-               *restrict prod = B->gali + g * LANES, *restrict rr = B->fin + S + g * LANES,
-               *restrict dot = B->inv + g * LANES; /* inv: scratch until the scales are set */
-        for (int w = 0; w < LANES; w++) dm[w] = dp[w] = 0.0;
+        vd dm = {0}, dp = {0};
         for (int r = 0; r < len; r++) {
-            const double *restrict a = qg + (size_t)r * LANES, *restrict b = qg + (size_t)(len + r) * LANES;
-            for (int w = 0; w < LANES; w++) {
-                dm[w] += (a[w] - b[w]) * (a[w] - b[w]);
-                dp[w] += (a[w] + b[w]) * (a[w] + b[w]);
-            }
+            const vd a = VC(ROW(qg, r)), b = VC(ROW(qg, len + r));
+            dm += (a - b) * (a - b);
+            dp += (a + b) * (a + b);
         }
-        for (int w = 0; w < LANES; w++) dm[w] = sqrt(fmin(dm[w], dp[w]));
-        /* GALI by modified Gram-Schmidt; a zero pivot gives 0 (dp is reused as its flag) */
-        for (int w = 0; w < LANES; w++) { prod[w] = 1.0; dp[w] = 1.0; }
+        vd mn;
+        for (int w = 0; w < LANES; w++) mn[w] = fmin(dm[w], dp[w]);
+        vsqrt(&mn);
+        V(B->acc1 + g * LANES) = mn;
+        /* GALI by modified Gram-Schmidt; a zero pivot gives 0 */
+        vd prod, zero = {0};
+        for (int w = 0; w < LANES; w++) prod[w] = 1.0;
         for (int i = 0; i < k; i++) {
             double *qi = qg + (size_t)len * i * LANES;
-            for (int w = 0; w < LANES; w++) rr[w] = 0.0;
+            vd rr = {0};
             for (int r = 0; r < len; r++) {
-                const double *restrict row = qi + (size_t)r * LANES;
-                for (int w = 0; w < LANES; w++) rr[w] += row[w] * row[w];
+                const vd x = VC(ROW(qi, r));
+                rr += x * x;
             }
-            for (int w = 0; w < LANES; w++) {
-                rr[w] = sqrt(rr[w]);
-                prod[w] *= rr[w];
-                dp[w] = rr[w] == 0.0 ? 0.0 : dp[w];
-            }
-            for (int r = 0; r < len; r++) {
-                double *restrict row = qi + (size_t)r * LANES;
-                for (int w = 0; w < LANES; w++) row[w] /= rr[w];
-            }
+            vsqrt(&rr);
+            prod *= rr;
+            for (int w = 0; w < LANES; w++) zero[w] = rr[w] == 0.0 ? 1.0 : zero[w];
+            for (int r = 0; r < len; r++) V(ROW(qi, r)) /= rr;
             for (int j = i + 1; j < k; j++) {
                 double *qj = qg + (size_t)len * j * LANES;
-                for (int w = 0; w < LANES; w++) dot[w] = 0.0;
-                for (int r = 0; r < len; r++) {
-                    const double *restrict a = qi + (size_t)r * LANES, *restrict b = qj + (size_t)r * LANES;
-                    for (int w = 0; w < LANES; w++) dot[w] += a[w] * b[w];
-                }
-                for (int r = 0; r < len; r++) {
-                    const double *restrict a = qi + (size_t)r * LANES;
-                    double *restrict b = qj + (size_t)r * LANES;
-                    for (int w = 0; w < LANES; w++) b[w] -= dot[w] * a[w];
-                }
+                vd dot = {0};
+                for (int r = 0; r < len; r++) dot += VC(ROW(qi, r)) * VC(ROW(qj, r));
+                for (int r = 0; r < len; r++) V(ROW(qj, r)) -= dot * VC(ROW(qi, r));
             }
         }
-        for (int w = 0; w < LANES; w++) prod[w] = dp[w] == 0.0 ? 0.0 : prod[w];
+        for (int w = 0; w < LANES; w++) B->gali[g * LANES + w] = zero[w] != 0.0 ? 0.0 : prod[w];
     }
 }
 
@@ -433,11 +422,8 @@ FPL_HOT static void slot_scale(fpl_chaos_batch *B, int ns)
     for (int g = 0; g < ns / LANES; g++) {
         for (int i = 0; i < k; i++) {
             double *wv = B->y + (size_t)g * rows * LANES + (size_t)len * (i + 1) * LANES;
-            const double *restrict sc = B->inv + (size_t)i * S + g * LANES;
-            for (int r = 0; r < len; r++) {
-                double *restrict row = wv + (size_t)r * LANES;
-                for (int w = 0; w < LANES; w++) row[w] *= sc[w];
-            }
+            const vd sc = VC(B->inv + (size_t)i * S + g * LANES);
+            for (int r = 0; r < len; r++) V(ROW(wv, r)) *= sc;
         }
     }
 }
@@ -452,7 +438,8 @@ static size_t at(long rows, long row, int s)
 
 static void slot_get(const fpl_chaos_batch *B, const double *y, int s, double *out)
 {
-    for (long r = 0; r < B->rows; r++) out[r] = y[at(B->rows, r, s)];
+    const double *base = y + at(B->rows, 0, s);
+    for (long r = 0; r < B->rows; r++) out[r] = base[(size_t)r * LANES];
 }
 
 static void slot_put(fpl_chaos_batch *B, int s, const double *in)
@@ -508,20 +495,26 @@ static void compact(fpl_chaos_batch *B)
         if (o >= 0 && B->res[o].done) {
             B->slot_of_orbit[o] = -1;
             B->orbit_of_slot[s] = -1;
+            B->vacated[s] = 1;
         }
     }
-    int to = 0, used = 0;
+    int to = 0;
     for (int s = 0; s < B->S; s++) {
         if (B->orbit_of_slot[s] < 0) continue;
         if (s != to) {
             slot_move(B, s, to);
             B->orbit_of_slot[s] = -1;
+            B->vacated[s] = 1;
         }
+        B->vacated[to] = 0;
         to++;
-        used = s + 1;
     }
     /* vacated slots get a zero state (no NaN arithmetic in the group's padding) */
-    for (int s = to; s < B->S && s < used + LANES; s++) slot_clear(B, s);
+    for (int s = to; s < B->S; s++)
+        if (B->vacated[s]) {
+            slot_clear(B, s);
+            B->vacated[s] = 0;
+        }
 }
 
 /* A group with a single running lane costs four lanes; from N = LONE_MIN_N on, that lane is
@@ -551,7 +544,8 @@ static void run_lone(fpl_chaos_batch *B, double *y, int s, long nsteps, double d
                 }
         }
     }
-    for (long r = 0; r < B->rows; r++) y[at(B->rows, r, s)] = ly[r];
+    double *base = y + at(B->rows, 0, s);
+    for (long r = 0; r < B->rows; r++) base[(size_t)r * LANES] = ly[r];
 }
 
 /* Advance the groups with running lanes (B->groups[0..ng)) by nsteps steps of dt; check the
@@ -665,6 +659,7 @@ void fpl_chaos_batch_free(fpl_chaos_batch **bp)
     free(B->gali);
     free(B->fin);
     free(B->fired);
+    free(B->vacated);
     free(B->fired_step);
     free(B->lane_y);
     free(B->final_y);
@@ -832,6 +827,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     ALLOC(B->gali, S);
     ALLOC(B->fin, 2 * S);
     ALLOC(B->fired, S);
+    ALLOC(B->vacated, S);
     ALLOC(B->fired_step, S);
     ALLOC(B->lane_y, (size_t)len * (k + 1));
     ALLOC(B->final_y, (size_t)len * (k + 1) * R);
@@ -845,7 +841,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     if (!B->lat || !B->orbit_of_slot || !B->slot_of_orbit || !B->y || !B->part ||
         (B->ev.n > 0 && !B->backup) || !B->q || !B->cl || !B->cn || !B->sc || !B->minv ||
         !B->phi || !B->kap || !B->dphi || !B->nrm || !B->inv || !B->acc1 || !B->acc2 ||
-        !B->gali || !B->fin || !B->fired || !B->fired_step || !B->lane_y || !B->final_y || !B->groups || !B->vgroups ||
+        !B->gali || !B->fin || !B->fired || !B->vacated || !B->fired_step || !B->lane_y || !B->final_y || !B->groups || !B->vgroups ||
         !B->logsum || !B->next || !B->pending || !B->res || !B->msg) {
         fpl_chaos_batch_free(&B);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (chaos batch of %d orbits, N = %d)",
