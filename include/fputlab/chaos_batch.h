@@ -123,8 +123,10 @@ FPL_API int fpl_chaos_batch_get_result(const fpl_chaos_batch *batch, int orbit,
 /* Readable account of how the lane ended ("" while running or if it reached t_end), e.g.
  * "max |x_{j+1} - x_j| > 4 at t = 2545.0098". */
 FPL_API const char *fpl_chaos_batch_message(const fpl_chaos_batch *batch, int orbit);
-/* State of orbit r (2N(1 + n_dev): orbit, then the deviation vectors, as fpl_integrator) at its
- * last renormalisation (for a blown-up lane: the start of the interval in which it blew up). */
+/* State of orbit r (2N(1 + n_dev): orbit, then the deviation vectors, as fpl_integrator) at the
+ * last grid time reached (after its last renormalisation). For a lane that blew up: with
+ * criteria, the state at the start of the interval in which it blew up; without, the state in
+ * which the non-finite numbers were found. */
 FPL_API int fpl_chaos_batch_get_state(const fpl_chaos_batch *batch, int orbit, double *y);
 
 /* Checkpoint: fpl_chaos_batch_save_size doubles hold the whole run state (states, counters,
