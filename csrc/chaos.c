@@ -1,6 +1,8 @@
 /* Chaos indicators (mLE, SALI, GALI) riding on any integrator: O(k^2 N) work per
  * renormalisation interval on top of the integration itself. */
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <gsl/gsl_randist.h>
@@ -19,6 +21,62 @@ void fpl_chaos_options_init(fpl_chaos_options *opt)
     opt->sali_threshold = 1e-8;
     opt->stop_when_chaotic = 0;
     opt->seed = 1;
+    opt->blowup_stretch = 0.0;
+}
+
+/* Largest bond stretch of the orbit x (fixed ends x_0 = x_{N+1} = 0); NaN if x is not finite
+ * (fmax would drop a NaN, so non-finite values are propagated by hand). */
+static double max_stretch(const double *x, int n)
+{
+    double s = fabs(x[0]), nonfinite = 0.0;
+    for (int j = 0; j + 1 < n; j++) {
+        const double d = fabs(x[j + 1] - x[j]);
+        s = d > s ? d : s;
+        nonfinite += x[j] - x[j];        /* 0, or NaN as soon as one x_j is Inf/NaN */
+    }
+    s = fabs(x[n - 1]) > s ? fabs(x[n - 1]) : s;
+    return s + nonfinite + (x[n - 1] - x[n - 1]);
+}
+
+const char *fpl_orbit_class_name(int orbit_class)
+{
+    switch (orbit_class) {
+    case FPL_ORBIT_UNDECIDED: return "undecided";
+    case FPL_ORBIT_REGULAR: return "regular";
+    case FPL_ORBIT_CHAOTIC: return "chaotic";
+    case FPL_ORBIT_BLOWUP: return "blow-up";
+    default: return NULL;
+    }
+}
+
+int fpl_chaos_classify(const fpl_chaos_result *r, const double *t, const double *mle, int n,
+                       double t_eval, int *orbit_class)
+{
+    if (!r || !orbit_class) return fpl_error(NULL, FPL_ERR_ARG, "result/orbit_class: NULL pointer");
+    if (n < 0) return fpl_error(NULL, FPL_ERR_ARG, "n must be >= 0 (got %d)", n);
+    if (n > 0 && (!t || !mle)) return fpl_error(NULL, FPL_ERR_ARG, "t/mle: NULL pointer");
+    if (t_eval != t_eval) t_eval = r->blew_up ? fmax(r->t_final, r->t_blowup) : r->t_final;
+    if (!isfinite(t_eval))
+        return fpl_error(NULL, FPL_ERR_ARG, "t_eval must be finite or NaN (got %g)", t_eval);
+    /* blow-up and chaos are dated: whichever came first by t_eval decides (chaos is never set at
+     * or after a blow-up, so at most one of them can be first) */
+    if (r->blew_up && r->t_blowup <= t_eval) { *orbit_class = FPL_ORBIT_BLOWUP; return FPL_OK; }
+    if (r->chaotic && r->t_chaotic <= t_eval) { *orbit_class = FPL_ORBIT_CHAOTIC; return FPL_OK; }
+    *orbit_class = FPL_ORBIT_UNDECIDED;
+    /* regular needs the run to have reached t_eval and enough samples of the last decade */
+    if (!(r->t_final >= t_eval * (1 - 1e-12))) return FPL_OK;
+    int last = -1;
+    for (int i = 0; i < n; i++)
+        if (t[i] <= t_eval * (1 + 1e-12)) last = i;
+    if (last < 2) return FPL_OK;
+    int first = last;
+    while (first > 0 && t[first - 1] >= t[last] / 10) first--;
+    const double lt_first = mle[first] * t[first], lt_last = mle[last] * t[last];
+    if (!isfinite(lt_first) || !isfinite(lt_last)) return FPL_OK;
+    /* regular: ln ||w|| grows like ln t (lambda ~ 1/t), at most ~ln 10 per decade plus slack;
+     * chaotic orbits grow it linearly in t */
+    if (lt_last <= 3.0 * fmax(lt_first, 1.0) + 2.0 * log(10.0)) *orbit_class = FPL_ORBIT_REGULAR;
+    return FPL_OK;
 }
 
 static double norm2(const double *w, long len)
@@ -110,21 +168,35 @@ static int check_options(const fpl_chaos_options *o, double t0)
                          o->t_first_sample);
     if (o->n_dev < 1)
         return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 1 (got %d)", o->n_dev);
-    if (!(o->sali_threshold >= 0.0))
-        return fpl_error(NULL, FPL_ERR_ARG, "sali_threshold must be >= 0 (got %g)",
+    if (!(o->sali_threshold >= 0.0) || !isfinite(o->sali_threshold))
+        return fpl_error(NULL, FPL_ERR_ARG, "sali_threshold must be finite and >= 0 (got %g)",
                          o->sali_threshold);
+    if (o->blowup_stretch != o->blowup_stretch || o->blowup_stretch == INFINITY)
+        return fpl_error(NULL, FPL_ERR_ARG, "blowup_stretch must be finite (got %g; < 0 turns the "
+                         "check off)", o->blowup_stretch);
+    /* a renormalisation per step or more often would only repeat the work; and the count of
+     * renormalisations must fit a long and stay exact in a double */
+    const double n_renorm = (o->t_end - t0) / o->renorm_interval;
+    if (!(n_renorm <= 9.0e15))
+        return fpl_error(NULL, FPL_ERR_ARG, "t_end - t0 = %g needs %g renormalisations of "
+                         "renorm_interval = %g: more than 9e15 (increase renorm_interval)",
+                         o->t_end - t0, n_renorm, o->renorm_interval);
     return FPL_OK;
 }
 
 struct fpl_chaos {
     fpl_integrator *h;
+    fpl_lattice *lattice;
     fpl_chaos_options opt;
     double t0, T, t_first;
     long len, n_renorm;
     long m;               /* renormalisations done */
     double logsum;        /* sum of ln ||w_1|| over them */
+    double stretch_limit; /* blow-up check at each renormalisation (0: none) */
+    int n;                /* particles */
     int next;             /* next log-spaced sample index */
-    int done;             /* t_end reached, or stopped chaotic */
+    int done;             /* t_end reached, stopped chaotic, or blew up */
+    double t_pending;     /* SALI < threshold seen here, chaos not yet confirmed (NaN: none) */
     fpl_chaos_result res;
     double *y, *q, *scale;
 };
@@ -190,12 +262,34 @@ int fpl_chaos_create(fpl_lattice *lattice, const char *method,
     st = fpl_integrator_create(lattice, method, k, integrator_options, t0, y, &c->h);
     if (st) { fpl_chaos_free(&c); return st; }
     c->opt = *opt;
+    c->n = lattice->n;
+    c->lattice = lattice;
+    c->stretch_limit = opt->blowup_stretch > 0 ? opt->blowup_stretch
+                     : opt->blowup_stretch == 0 && lattice->alpha > 0 ? 1.0 / lattice->alpha : 0.0;
+    {
+        int order = 0, adaptive = 0;
+        const double dt = integrator_options ? integrator_options->dt : 0.01;
+        if (fpl_method_info(method, &order, &adaptive) == FPL_OK && !adaptive &&
+            opt->renorm_interval < dt * (1 - 1e-12)) {
+            fpl_chaos_free(&c);
+            return fpl_error(NULL, FPL_ERR_ARG, "renorm_interval = %g is smaller than the step "
+                             "dt = %g (renormalise at most once per step)", opt->renorm_interval, dt);
+        }
+        /* the step count is a 64-bit integer and times t0 + n dt must stay exact */
+        if (!adaptive && !((opt->t_end - t0) / dt <= 9.0e15)) {
+            fpl_chaos_free(&c);
+            return fpl_error(NULL, FPL_ERR_ARG, "t_end - t0 = %g needs %g steps of dt = %g: more "
+                             "than the step counter holds exactly (9e15)", opt->t_end - t0,
+                             (opt->t_end - t0) / dt, dt);
+        }
+    }
     c->t0 = t0;
+    c->t_pending = NAN;
     c->len = len;
     c->T = opt->t_end - t0;
     c->t_first = opt->t_first_sample > 0.0 ? opt->t_first_sample : fmin(opt->renorm_interval, c->T);
     c->n_renorm = (long)ceil(c->T / opt->renorm_interval - 1e-9);
-    c->res = (fpl_chaos_result){0, t0, NAN, NAN, NAN, 0, NAN, 0};
+    c->res = (fpl_chaos_result){0, t0, NAN, NAN, NAN, 0, NAN, 0, 0, NAN, 0};
     *out = c;
     return FPL_OK;
 }
@@ -218,6 +312,21 @@ static double sample_target(const fpl_chaos *c, int i)
     return n == 1 ? c->T : c->t_first * pow(c->T / c->t_first, (double)i / (n - 1));
 }
 
+/* End the run as a blow-up at t: the class is decided (fpl_chaos_classify), the message says when
+ * and why, and the status is informational (FPL_EVENT), like a stopping criterion. */
+static int blew_up(fpl_chaos *c, double t, const char *fmt, ...)
+{
+    char msg[FPL_ERRMSG_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    c->res.blew_up = 1;
+    c->res.t_blowup = t;
+    c->done = 1;
+    return fpl_error(NULL, FPL_EVENT, "%s", msg);
+}
+
 int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_out,
                       double *sali_out, double *gali_out)
 {
@@ -234,7 +343,23 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
         double t = m == c->n_renorm ? c->opt.t_end : c->t0 + (double)m * tau;
         if (t > t_until) break;
         st = fpl_integrator_advance(c->h, t, y);
+        if (st == FPL_EVENT) {            /* a stopping criterion attached to the lattice */
+            int index = 0;
+            double t_event = t;
+            fpl_integrator_event(c->h, &index, &t_event);
+            return blew_up(c, t_event, "blow-up: stopping criterion '%s' fired at t = %.10g",
+                           fpl_lattice_event_describe(c->lattice, index), t_event);
+        }
+        if (st == FPL_ERR_NONFINITE)      /* the orbit itself overflowed within this interval */
+            return blew_up(c, t, "blow-up: the state became non-finite before t = %.10g (%s)", t,
+                           fpl_last_error());
         if (st) break;
+        if (c->stretch_limit > 0) {       /* before SALI: a runaway orbit aligns the vectors */
+            const double s = max_stretch(y, c->n);
+            if (!(s <= c->stretch_limit))
+                return blew_up(c, t, "blow-up: a bond stretch |x_{j+1} - x_j| = %.4g exceeds %.4g "
+                               "(the barrier 1/alpha) at t = %.10g", s, c->stretch_limit, t);
+        }
         double n1 = 0.0;
         for (int i = 0; i < k; i++) {
             double n = norm2(y + len * (i + 1), len);
@@ -254,9 +379,19 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
         if (k >= 2) {
             res->sali = sali_unit(q, q + len, len);
             res->gali = gali_unit(q, k, len); /* destroys q; SALI already taken */
-            if (!res->chaotic && res->sali < c->opt.sali_threshold) {
+            /* SALI below the threshold is confirmed as chaos at the next renormalisation if the
+             * orbit is still finite and inside the barrier then (or at once at t_end): near a
+             * blow-up the runaway direction aligns the vectors too, within an interval of the
+             * overflow, and that is not chaos */
+            if (!res->chaotic && c->t_pending == c->t_pending) {
                 res->chaotic = 1;
-                res->t_chaotic = t;
+                res->t_chaotic = c->t_pending;
+            } else if (!res->chaotic && res->sali < c->opt.sali_threshold) {
+                c->t_pending = t;
+                if (m == c->n_renorm) {
+                    res->chaotic = 1;
+                    res->t_chaotic = t;
+                }
             }
         }
         st = fpl_integrator_transform_deviations(c->h, scale);
@@ -275,20 +410,21 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
             while (c->next < n_samples && sample_target(c, c->next) <= (t - c->t0) * (1 + 1e-12))
                 c->next++;
         }
-        if (stop || m == c->n_renorm) c->done = 1;
+        if (stop || m == c->n_renorm) c->done = c->res.completed = 1;
     }
     return st;
 }
 
 /* Accumulators, in this order: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
- * t_final, done (doubles represent the counts exactly up to 2^53). */
+ * t_final, done, blew_up, t_blowup, completed, t_pending (doubles represent the counts exactly up to 2^53). */
 int fpl_chaos_save(const fpl_chaos *c, double *acc)
 {
     if (!c || !acc) return fpl_error(NULL, FPL_ERR_ARG, "chaos/acc: NULL pointer");
     const fpl_chaos_result *r = &c->res;
     const double a[FPL_CHAOS_N_ACCUMULATORS] = {
         (double)c->m, c->logsum, c->next, r->n_samples, r->chaotic, r->t_chaotic,
-        r->mle, r->sali, r->gali, r->t_final, c->done};
+        r->mle, r->sali, r->gali, r->t_final, c->done, r->blew_up, r->t_blowup, r->completed,
+        c->t_pending};
     memcpy(acc, a, sizeof a);
     return FPL_OK;
 }
@@ -316,6 +452,10 @@ int fpl_chaos_restore(fpl_chaos *c, const double *acc)
     c->res.gali = acc[8];
     c->res.t_final = acc[9];
     c->done = acc[10] != 0;
+    c->res.blew_up = acc[11] != 0;
+    c->res.t_blowup = acc[12];
+    c->res.completed = acc[13] != 0;
+    c->t_pending = acc[14];
     return FPL_OK;
 }
 

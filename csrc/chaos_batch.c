@@ -32,6 +32,7 @@ struct fpl_chaos_batch {
     int R, n, k, model, S;
     long rows;               /* 2N(1 + n_dev) rows of the state */
     double alpha, beta, dt, t0, T, t_first, tau;
+    double stretch_limit;    /* blow-up check at each renormalisation (0: none) */
     long n_renorm, n_steps, m;
     const fpl_splitting *scheme;
     fpl_lattice **lat;
@@ -70,6 +71,7 @@ void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt)
     opt->sali_threshold = 1e-8;
     opt->stop_when_chaotic = 0;
     opt->seed = 1;
+    opt->blowup_stretch = 0.0;
     opt->compact = 1;
 }
 
@@ -600,8 +602,8 @@ static void blowup_lane(fpl_chaos_batch *B, int o, int s, long n_start, double t
     r->steps = n_start;
     finish_lane(B, o, with_backup ? B->backup : B->y);
     const double t_start = B->t0 + (double)n_start * B->dt;
-    snprintf(B->msg[o], MSG_LEN, "state became non-finite between t = %.10g and t = %.10g",
-             t_start, t_seen);
+    snprintf(B->msg[o], MSG_LEN, "blow-up: the state became non-finite between t = %.10g and "
+             "t = %.10g", t_start, t_seen);
     if (with_backup) {
         slot_get(B, B->backup, s, B->lane_y);
         fpl_integrator_options io;
@@ -617,19 +619,51 @@ static void blowup_lane(fpl_chaos_batch *B, int o, int s, long n_start, double t
                 r->blowup_reason = FPL_BATCH_BLOWUP_EVENT;
                 r->event_index = idx;
                 r->t_blowup = tev;
-                snprintf(B->msg[o], MSG_LEN, "%s at t = %.10g",
+                snprintf(B->msg[o], MSG_LEN, "blow-up: stopping criterion '%s' fired at t = %.10g",
                          fpl_lattice_event_describe(B->lat[o], idx), tev);
             } else if (st == FPL_ERR_NONFINITE) {
-                snprintf(B->msg[o], MSG_LEN, "%s", fpl_last_error());
+                snprintf(B->msg[o], MSG_LEN, "blow-up: the state became non-finite before t = %.10g "
+                         "(%s)", t_interval, fpl_last_error());
             } else if (B->ev.n > 0 && st == FPL_OK) {
                 /* the replay saw nothing (a crossing within round-off): the batch's check holds */
                 r->blowup_reason = FPL_BATCH_BLOWUP_EVENT;
-                snprintf(B->msg[o], MSG_LEN, "a stopping criterion fired by t = %.10g", t_seen);
+                snprintf(B->msg[o], MSG_LEN, "blow-up: a stopping criterion fired by t = %.10g", t_seen);
             }
             r->steps = n_start + fpl_integrator_steps(h);
         }
         fpl_integrator_free(&h);
     }
+    /* as fpl_chaos: a non-finite state is dated by the renormalisation that found it */
+    if (r->blowup_reason == FPL_BATCH_BLOWUP_NONFINITE) r->t_blowup = t_interval;
+}
+
+/* max_b |x_{b+1} - x_b| of slot s's orbit, ends included (chaos.c: max_stretch); NaN if the
+ * orbit is not finite. */
+static double slot_max_stretch(const fpl_chaos_batch *B, const double *y, int s)
+{
+    const int n = B->n;
+    const double *x = y + at(B->rows, 0, s);
+    double mx = fabs(x[0]), nonfinite = 0.0;
+    for (int j = 0; j + 1 < n; j++) {
+        const double d = fabs(x[(size_t)(j + 1) * LANES] - x[(size_t)j * LANES]);
+        mx = d > mx ? d : mx;
+        nonfinite += x[(size_t)j * LANES] - x[(size_t)j * LANES];
+    }
+    const double xe = x[(size_t)(n - 1) * LANES];
+    mx = fabs(xe) > mx ? fabs(xe) : mx;
+    return mx + nonfinite + (xe - xe);
+}
+
+static void stretch_blowup(fpl_chaos_batch *B, int o, double t, long n_steps)
+{
+    fpl_chaos_batch_result *r = &B->res[o];
+    r->blew_up = 1;
+    if (B->pending[o]) r->t_chaotic = NAN;
+    r->blowup_reason = FPL_BATCH_BLOWUP_STRETCH;
+    r->t_blowup = t;
+    r->event_index = -1;
+    r->steps = n_steps;
+    finish_lane(B, o, B->y);
 }
 
 /* ---- create / free ------------------------------------------------------------------------ */
@@ -751,6 +785,9 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
     if (o->n_dev > 2 * lattices[0]->n)
         return fpl_error(NULL, FPL_ERR_ARG, "n_dev = %d exceeds the phase-space dimension 2N = %d",
                          o->n_dev, 2 * lattices[0]->n);
+    if (!isfinite(o->blowup_stretch))
+        return fpl_error(NULL, FPL_ERR_ARG, "blowup_stretch must be finite (got %g)",
+                         o->blowup_stretch);
     if (!(o->sali_threshold >= 0.0))
         return fpl_error(NULL, FPL_ERR_ARG, "sali_threshold must be >= 0 (got %g)",
                          o->sali_threshold);
@@ -805,6 +842,8 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     B->scheme = scheme;
     B->opt = *opt;
     B->ev = lattices[0]->events;
+    B->stretch_limit = opt->blowup_stretch > 0 ? opt->blowup_stretch
+                     : opt->blowup_stretch == 0 && B->alpha > 0 ? 1.0 / B->alpha : 0.0;
     const size_t S = (size_t)B->S, dim = (size_t)len * (k + 1) * S;
     ALLOC(B->lat, R);
     ALLOC(B->orbit_of_slot, S);
@@ -891,7 +930,8 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
                     B->res[r].blowup_reason = FPL_BATCH_BLOWUP_EVENT;
                     B->res[r].event_index = i;
                     B->res[r].t_blowup = t0;
-                    snprintf(B->msg[r], MSG_LEN, "%s at t = %.10g (the initial state)",
+                    snprintf(B->msg[r], MSG_LEN, "blow-up: stopping criterion '%s' fired at t = %.10g "
+                             "(the initial state)",
                              fpl_lattice_event_describe(lattices[r], i), t0);
                     finish_lane(B, r, B->y);
                 }
@@ -964,6 +1004,19 @@ int fpl_chaos_batch_advance(fpl_chaos_batch *B, double t_until, double *t_out, d
                 blowup_lane(B, o, s, n_start, t, t_seen, 1);
             } else if (!ok) {
                 blowup_lane(B, o, s, n_start, t, t, B->backup != NULL);
+            }
+        }
+        /* before SALI, as fpl_chaos: a bond stretched beyond the barrier is a runaway orbit */
+        if (B->stretch_limit > 0) {
+            for (int s = 0; s < ns; s++) {
+                const int o = B->orbit_of_slot[s];
+                if (o < 0 || B->res[o].done) continue;
+                const double mx = slot_max_stretch(B, yr, s);
+                if (!(mx <= B->stretch_limit)) {
+                    stretch_blowup(B, o, t, n_target);
+                    snprintf(B->msg[o], MSG_LEN, "blow-up: a bond stretch |x_{j+1} - x_j| = %.4g "
+                             "exceeds %.4g at t = %.10g", mx, B->stretch_limit, t);
+                }
             }
         }
         slot_indices(B, yr, ns);
@@ -1126,10 +1179,14 @@ int fpl_chaos_batch_restore(fpl_chaos_batch *B, const double *buf, long len)
         r->done = p[15] != 0;
         B->msg[o][0] = '\0';
         if (r->blew_up && r->blowup_reason == FPL_BATCH_BLOWUP_EVENT && r->event_index >= 0)
-            snprintf(B->msg[o], MSG_LEN, "%s at t = %.10g",
+            snprintf(B->msg[o], MSG_LEN, "blow-up: stopping criterion '%s' fired at t = %.10g",
                      fpl_lattice_event_describe(B->lat[o], r->event_index), r->t_blowup);
+        else if (r->blew_up && r->blowup_reason == FPL_BATCH_BLOWUP_STRETCH)
+            snprintf(B->msg[o], MSG_LEN, "blow-up: a bond stretch |x_{j+1} - x_j| exceeded %.4g at "
+                     "t = %.10g", B->stretch_limit, r->t_blowup);
         else if (r->blew_up)
-            snprintf(B->msg[o], MSG_LEN, "state became non-finite by t = %.10g", r->t_blowup);
+            snprintf(B->msg[o], MSG_LEN, "blow-up: the state became non-finite by t = %.10g",
+                     r->t_blowup);
         B->slot_of_orbit[o] = -1;
         if (r->done) {
             memcpy(B->final_y + (size_t)o * lane, p + N_LANE_ACC, sizeof(double) * (size_t)lane);

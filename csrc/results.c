@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "h5util.h"
+#include <hdf5_hl.h>   /* dimension scales (H5DS) */
 #include "internal.h"
 
 #define SCHEMA "fputlab-results/1"
@@ -35,6 +36,7 @@ struct fpl_results {
 };
 
 static int ensure_chaos(fpl_results *r);
+static int label_dimensions(fpl_results *r, int chaos);
 static const char *s_names[S_COUNT] = {"t", "energy", "mode_energies", "states"};
 static const char *c_names[C_COUNT] = {"chaos/t", "chaos/mle", "chaos/sali", "chaos/gali"};
 
@@ -202,6 +204,10 @@ int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *i
             goto done;
         }
     }
+    if (label_dimensions(r, 0)) {
+        st = h5_fail(r, "labelling the dimensions");
+        goto done;
+    }
     if (H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0) st = h5_fail(r, "flush");
 done:
     fpl_h5_quiet_end(&q);
@@ -368,18 +374,73 @@ const char *fpl_results_errmsg(const fpl_results *r) { return r ? r->errmsg : ""
 
 long fpl_results_count(const fpl_results *r) { return r ? r->s[S_T].rows + r->nbuf : -1; }
 
+/* Dimension scales (the netCDF-4 convention), so that netCDF readers (xarray with
+ * engine="h5netcdf", ncdump) name the dimensions instead of inventing phony_dim_*: `t` is the
+ * scale of the sample axis of every series; `mode` (1..N), `site` (1..N, for v) and `component`
+ * (1..2N(1+n_dev), for states) are small index datasets made scales of the column axes. In
+ * /chaos, chaos/t is the scale of mle, sali, gali. Called once, when the datasets are created
+ * (a resumed file has them already). Returns 0, or -1 with HDF5's message in r->h5msg. */
+static hid_t index_scale(hid_t loc, const char *name, long n)
+{
+    hsize_t dims[1] = {(hsize_t)n};
+    hid_t space = H5Screate_simple(1, dims, NULL), d = -1;
+    int *idx = malloc(sizeof(int) * (size_t)n);
+    if (idx && space >= 0) {
+        for (long i = 0; i < n; i++) idx[i] = (int)(i + 1);
+        d = H5Dcreate2(loc, name, H5T_NATIVE_INT, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        if (d >= 0 && (H5Dwrite(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, idx) < 0 ||
+                       H5DSset_scale(d, name) < 0)) {
+            H5Dclose(d);
+            d = -1;
+        }
+    }
+    free(idx);
+    if (space >= 0) H5Sclose(space);
+    return d;
+}
+
+static int label_dimensions(fpl_results *r, int chaos)
+{
+    int bad = 0;
+    if (chaos) {
+        bad |= H5DSset_scale(r->c[C_T].d, "t") < 0;
+        for (int i = C_T + 1; i < C_COUNT && !bad; i++)
+            bad |= H5DSattach_scale(r->c[i].d, r->c[C_T].d, 0) < 0;
+    } else {
+        hid_t mode = index_scale(r->file, "mode", r->lat->n);
+        hid_t site = index_scale(r->file, "site", r->lat->n);
+        hid_t comp = r->store_states ? index_scale(r->file, "component", r->dim) : 0;
+        hid_t v = H5Dopen2(r->file, "v", H5P_DEFAULT);
+        bad = mode < 0 || site < 0 || comp < 0 || v < 0 || H5DSset_scale(r->s[S_T].d, "t") < 0;
+        for (int i = S_T + 1; i < S_COUNT && !bad; i++)
+            if (r->s[i].d >= 0) bad |= H5DSattach_scale(r->s[i].d, r->s[S_T].d, 0) < 0;
+        if (!bad) bad |= H5DSattach_scale(r->s[S_MODE_ENERGIES].d, mode, 1) < 0;
+        if (!bad && r->store_states) bad |= H5DSattach_scale(r->s[S_STATES].d, comp, 1) < 0;
+        if (!bad) bad |= H5DSattach_scale(v, site, 0) < 0;
+        if (mode >= 0) H5Dclose(mode);
+        if (site >= 0) H5Dclose(site);
+        if (comp > 0) H5Dclose(comp);
+        if (v >= 0) H5Dclose(v);
+    }
+    if (bad) fpl_h5_error_text(r->h5msg, sizeof r->h5msg);
+    return bad ? -1 : 0;
+}
+
 static int ensure_chaos(fpl_results *r)
 {
     if (r->c[C_T].d >= 0) return 0;
+    int created = 0;
     for (int i = 0; i < C_COUNT; i++) {
         if (H5Lexists(r->file, "chaos", H5P_DEFAULT) > 0 &&
             H5Lexists(r->file, c_names[i], H5P_DEFAULT) > 0)
             r->c[i].d = H5Dopen2(r->file, c_names[i], H5P_DEFAULT);
-        else
+        else {
             r->c[i].d = create_series(r->file, c_names[i], 0, r->chunk);
+            created = 1;
+        }
         if (r->c[i].d < 0) return -1;
     }
-    return 0;
+    return created ? label_dimensions(r, 1) : 0;
 }
 
 /* Write the buffers: only full ones (whole chunks), unless `all` (closing the file). */

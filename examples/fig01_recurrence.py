@@ -15,4 +15,4 @@ if __name__ == "__main__":
     p.add_argument("--out", default="figures")
     p.add_argument("--full", action="store_true")
     a = p.parse_args()
-    print(fig1(a.out, a.full))
+    print(fig1(a.out, full=a.full))

@@ -17,4 +17,4 @@ if __name__ == "__main__":
     p.add_argument("--full", action="store_true")
     p.add_argument("--seed", type=int, default=3)
     a = p.parse_args()
-    print(fig2(a.out, a.full, seed=a.seed))
+    print(fig2(a.out, full=a.full, seed=a.seed))

@@ -12,8 +12,9 @@
  * numbers agree with fpl_chaos to round-off (bit for bit with the default GCC build).
  *
  * Per lane:
- *   - blow-up: the lane stops when its state becomes non-finite (checked at every
- *     renormalisation) or when a stopping criterion attached to its lattice fires
+ *   - blow-up: the lane stops when its state becomes non-finite or a bond stretch exceeds
+ *     blowup_stretch (1/alpha by default; both checked at every renormalisation, before SALI, as
+ *     fpl_chaos does) or when a stopping criterion attached to its lattice fires
  *     (fpl_lattice_set_events; kinds FPL_EVENT_MAX_STRETCH, FPL_EVENT_MAX_DISPLACEMENT and
  *     FPL_EVENT_ENERGY, checked every 16 steps as fpl_integrator does; the event time is then
  *     located exactly by replaying that lane's interval with fpl_integrator, as a single-orbit run
@@ -58,6 +59,9 @@ typedef struct fpl_chaos_batch_options {
     int stop_when_chaotic;    /* non-zero: a lane stops once found chaotic */
     unsigned long seed;       /* random initial deviation vectors when w0 is NULL (the same
                                  vectors for every orbit, as fpl_chaos with this seed) */
+    double blowup_stretch;    /* as fpl_chaos_options: a bond stretch |x_{j+1} - x_j| above this at
+                                 a renormalisation ends the lane as a blow-up (checked before
+                                 SALI). 0 (default): 1/alpha for alpha > 0, else none; < 0: none */
     int compact;              /* non-zero (default): move running lanes together when lanes
                                  finish; 0: leave them in place and skip only all-finished
                                  groups of 4 (for measurements) */
@@ -67,8 +71,10 @@ typedef struct fpl_chaos_batch_options {
 enum {
     FPL_BATCH_BLOWUP_NONE = 0,
     FPL_BATCH_BLOWUP_EVENT = 1,      /* a stopping criterion of the lattice fired */
-    FPL_BATCH_BLOWUP_NONFINITE = 2   /* the state (orbit or deviation vectors) left the finite
+    FPL_BATCH_BLOWUP_NONFINITE = 2,  /* the state (orbit or deviation vectors) left the finite
                                         numbers, or a deviation vector became zero */
+    FPL_BATCH_BLOWUP_STRETCH = 3     /* a bond stretch exceeded blowup_stretch at a
+                                        renormalisation */
 };
 
 typedef struct fpl_chaos_batch_result {
@@ -80,8 +86,8 @@ typedef struct fpl_chaos_batch_result {
     int chaotic;              /* SALI < threshold on a finite orbit, confirmed (see above) */
     double t_chaotic;         /* first renormalisation time with SALI < threshold (NaN if none) */
     int blew_up;              /* the lane blew up (then chaotic is 0 unless confirmed before) */
-    double t_blowup;          /* event time; for a non-finite state the first time it was seen
-                                 non-finite (NaN if no blow-up) */
+    double t_blowup;          /* the event time, or the renormalisation time at which the stretch
+                                 or the non-finite state was found (NaN if no blow-up) */
     int blowup_reason;        /* FPL_BATCH_BLOWUP_* */
     int event_index;          /* criterion that fired (index into the lattice's set), or -1 */
     long steps;               /* integrator steps taken by this orbit */
@@ -91,7 +97,7 @@ typedef struct fpl_chaos_batch_result {
 typedef struct fpl_chaos_batch fpl_chaos_batch;
 
 /* t_end NaN (must be set), renorm_interval 1.0, n_samples 200, t_first_sample 0, n_dev 2,
- * sali_threshold 1e-8, stop_when_chaotic 0, seed 1, compact 1. */
+ * sali_threshold 1e-8, stop_when_chaotic 0, seed 1, blowup_stretch 0 (automatic), compact 1. */
 FPL_API void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt);
 
 /* lattices: n_orbits handles (the same N, model, alpha, beta and criteria; one may appear

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._display import ResultMixin
 from ._arrays import as_float_array
 from ._errors import check
 from ._native import ffi, lib
@@ -25,7 +26,7 @@ CRITERIA = {
 
 def default_criteria(lattice: Lattice) -> list[tuple]:
     """The cubic potential's barrier: a bond stretched beyond 1/alpha has escaped (V'(s) = 0 at
-    s = -1/alpha); without alpha, |x_j| > 100."""
+    s = -1/alpha); without alpha, ``|x_j| > 100``."""
     if lattice.alpha > 0:
         return [("stretch", 1.0 / lattice.alpha)]
     return [("displacement", 100.0)]
@@ -51,8 +52,8 @@ def set_criteria(lattice: Lattice, criteria) -> None:
     lattice._check(lib.fpl_lattice_set_events(lattice._h, ev))
 
 
-@dataclass
-class Blowup:
+@dataclass(repr=False)
+class Blowup(ResultMixin):
     """Outcome of one run with stopping criteria."""
     blew_up: bool
     time: float                 # event time (NaN if no event)
@@ -67,8 +68,41 @@ class Blowup:
 def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt: float | None = None,
                 rtol: float = 1e-10, atol: float = 1e-12, y0=None, criteria=None,
                 progress: bool = False) -> Blowup:
-    """Integrate until a criterion fires (default: a bond stretched beyond the barrier 1/alpha) or
-    t_max. A NaN/Inf state without an event is an integration failure, reported as such."""
+    """Integrate until a stopping criterion fires (a blow-up) or `t_max`.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice (typically model 3 with tau above tau_c).
+    t_max : float
+        Longest time to integrate (finite, > 0).
+    method : str, optional
+        Integrator name; the splitting schemes locate the crossing inside the step, ARKODE and
+        CVODE by root-finding ("gsl-rk8pd" refuses criteria).
+    dt : float, optional
+        Step of the fixed-step methods (default 0.01).
+    rtol, atol : float, optional
+        Tolerances of the adaptive methods.
+    y0 : array_like, optional
+        Initial state, length 2N (default: the paper's mode-1 state).
+    criteria : list of tuple, optional
+        Stopping criteria such as ``[("stretch", 4.0)]``, ``("energy", E)``,
+        ``("displacement", X)`` or ``("mode_energy", E)`` (default: a bond stretched beyond the
+        cubic barrier 1/alpha, `default_criteria`).
+    progress : bool, optional
+        A progress bar with ETA (tqdm.auto).
+
+    Returns
+    -------
+    Blowup
+        Whether it blew up, when, by which criterion, and the state there.
+
+    Raises
+    ------
+    IntegrationError
+        The state became NaN/Inf without a criterion firing: an integration failure, not a
+        located blow-up.
+    """
     t_max = _real(t_max, "t_max")
     if not (math.isfinite(t_max) and t_max > 0):
         raise ValueError(f"t_max must be finite and > 0 (got {t_max:g})")
@@ -81,7 +115,7 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
         integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol)
         index, t_ev = ffi.new("int *"), ffi.new("double *")
         if progress:   # the same run in 100 segments, a tqdm bar between them
-            from tqdm import tqdm
+            from tqdm.auto import tqdm
             with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t", disable=None,
                       bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
                 for k in range(1, 101):
@@ -124,19 +158,50 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
                  model: str = "nonlinear", alpha: float = 0.25, method: str = "yoshida4",
                  first_seed: int = 1, workers: int | None = None, progress: bool = False,
                  **kwargs) -> dict:
-    """Probability of blow-up before t_max versus tau (and N) over `realisations` disorder draws
-    (seeds first_seed..), run in parallel processes. Returns a dict with arrays `tau`, `N`,
-    `probability` (len(taus) x len(Ns)), the per-realisation `records`
-    (tau, N, seed, blew_up, time, tau_c) where tau_c is the realisation's own two-mode threshold
-    (B~ < 0 above it), and `prediction_accuracy`: the share of runs where "tau > tau_c" agrees
-    with "blew up before t_max"."""
+    """Probability of blow-up before `t_max` versus tau (and N) over disorder realisations, run
+    in parallel processes.
+
+    Parameters
+    ----------
+    taus : sequence of float
+        Tolerances (percent).
+    Ns : sequence of int, optional
+        Lattice sizes.
+    realisations : int, optional
+        Disorder draws per (tau, N), seeds ``first_seed, first_seed + 1, ...``.
+    t_max : float, optional
+        Longest time per run.
+    model : str, optional
+        Lattice model (default "nonlinear", the paper's).
+    alpha : float, optional
+        Cubic coupling.
+    method : str, optional
+        Integrator name.
+    first_seed : int, optional
+        Seed of the first realisation.
+    workers : int, optional
+        Worker processes (default: all cores).
+    progress : bool, optional
+        A progress bar over the runs (tqdm.auto).
+    **kwargs
+        Passed to `blowup_time` (dt, rtol, atol, criteria).
+
+    Returns
+    -------
+    dict
+        ``tau``, ``N``, ``probability`` (len(taus) x len(Ns)), the per-realisation ``records``
+        (tau, N, seed, blew_up, time, tau_c) where tau_c is the realisation's own two-mode
+        threshold (B~ < 0 above it), and ``prediction_accuracy``: the share of runs where
+        "tau > tau_c" agrees with "blew up before t_max". Plot with `plot_sweep` or
+        `fputlab.plotting.plot_blowup_sweep`.
+    """
     taus, Ns = [float(t) for t in taus], [int(n) for n in Ns]
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]
     with ProcessPoolExecutor(max_workers=workers) as pool:
         it = pool.map(_one, tasks)
         if progress:
-            from tqdm import tqdm
+            from tqdm.auto import tqdm
             it = tqdm(it, total=len(tasks), desc="blow-up sweep", disable=None)
         records = list(it)
     prob = np.zeros((len(taus), len(Ns)))
@@ -153,28 +218,17 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
 def plot_sweep(sweep: dict, path: str | None = None):
     """(a) probability of blow-up before t_max versus tau (one curve per N), with the fraction of
     realisations whose own two-mode tau_c lies below tau (the reduction's prediction); (b) the
-    distribution of blow-up times. Returns the figure; writes a PNG if `path` is given."""
+    distribution of blow-up times (`fputlab.plotting.plot_blowup_sweep`). Returns the figure;
+    writes a PNG if `path` is given."""
     import matplotlib
     if path is not None:
         matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from .plotting import plot_blowup_sweep
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.2), constrained_layout=True)
-    recs = sweep["records"]
-    for j, N in enumerate(sweep["N"]):
-        a.plot(sweep["tau"], sweep["probability"][:, j], "o-", label=f"N = {N}: blew up")
-        pred = [np.mean([r[0] > r[5] for r in recs if r[0] == tau and r[1] == N])
-                for tau in sweep["tau"]]
-        a.plot(sweep["tau"], pred, "s--", alpha=0.7, label=f"N = {N}: τ > own τ_c (two-mode)")
-    a.set_xlabel("τ (%)")
-    a.set_ylabel(f"P(blow-up before t = {sweep['t_max']:g})")
-    a.set_ylim(-0.05, 1.05)
-    a.legend(frameon=False, fontsize=8)
-    times = [r[4] for r in recs if r[3]]
-    if times:
-        b.hist(times, bins=min(30, max(5, len(times) // 3)), color="C3", alpha=0.8)
-    b.set_xlabel("blow-up time")
-    b.set_ylabel("realisations")
-    b.set_title(f"{len(times)} of {len(recs)} runs blew up")
+    plot_blowup_sweep(sweep, ax=a)
+    plot_blowup_sweep(sweep, ax=b, kind="times")
     if path is not None:
         fig.savefig(path, dpi=110)
         plt.close(fig)

@@ -3,57 +3,89 @@ orbits, and the chaotic fraction over disorder realisations (paper Sec. 5, Figs.
 from __future__ import annotations
 
 import math
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._display import ResultMixin
 from ._arrays import as_float_array, ptr
-from ._errors import IntegrationError, check
+from ._errors import IntegrationError, check, last_error
 from ._native import ffi, lib
 from .integrate import method_info
 from .lattice import Lattice, _int, _real
 
 
-@dataclass
-class ChaosResult:
-    """lambda(t), SALI(t), GALI(t) at log-spaced times for one orbit."""
+#: The default integrator of chaos ensembles (chaotic_fraction, sweeps, the study behind
+#: Figs. 12-14): the fastest scheme validated (tests/python/test_study.py,
+#: benchmarks/chaos_methods.py) to classify orbits as Yoshida 4 at dt = 0.01 and DOP853 on the
+#: variational equations (the paper's methods) do; its energy error at dt = 0.5 is below Yoshida
+#: 4's at dt = 0.01, at ~1/8 of the cost. The paper's choice stays one argument away
+#: (method="dop853" or method="yoshida4", dt=0.01).
+ENSEMBLE_METHOD, ENSEMBLE_DT = "srkn14a6", 0.5
+
+#: the classes of an orbit, exactly these (C: fpl_orbit_class)
+CLASSES = ("chaotic", "regular", "blow-up", "undecided")
+
+
+def classify_orbit(t, mle, *, chaotic: bool, t_chaotic: float, blew_up: bool, t_blowup: float,
+                   t_final: float, t_eval: float | None = None) -> str:
+    """The class of an orbit at time t_eval (default t_final) from its log-spaced samples: the C
+    rule fpl_chaos_classify, the only one. 'blow-up' if it blew up by t_eval; 'chaotic' if SALI
+    fell below the threshold on the finite orbit by t_eval (never at or after a blow-up);
+    'regular' if the run reached t_eval and lambda(t) follows the 1/t law over the last decade;
+    otherwise 'undecided'."""
+    t = np.ascontiguousarray(t, dtype=float)
+    mle = np.ascontiguousarray(mle, dtype=float)
+    if t.shape != mle.shape or t.ndim != 1:
+        raise ValueError(f"t and mle must be 1-D of one length (got {t.shape}, {mle.shape})")
+    r = ffi.new("fpl_chaos_result *")
+    r.chaotic, r.t_chaotic = bool(chaotic), float(t_chaotic)
+    r.blew_up, r.t_blowup, r.t_final = bool(blew_up), float(t_blowup), float(t_final)
+    out = ffi.new("int *")
+    te = math.nan if t_eval is None else _real(t_eval, "t_eval")
+    check(lib.fpl_chaos_classify(r, ptr(t) if t.size else ffi.NULL,
+                                 ptr(mle) if t.size else ffi.NULL, t.size, te, out))
+    return ffi.string(lib.fpl_orbit_class_name(out[0])).decode()
+
+
+@dataclass(repr=False)
+class ChaosResult(ResultMixin):
+    """lambda(t), SALI(t), GALI(t) at log-spaced times for one orbit.
+
+    The orbit's class (`classify`) is exactly one of 'chaotic', 'regular', 'blow-up',
+    'undecided'. A blow-up is decided by a stopping criterion, the bond-stretch check
+    (`blowup_stretch`) or a non-finite state; 'chaotic' only by SALI < threshold on a finite
+    orbit before any blow-up."""
     t: np.ndarray
     mle: np.ndarray
     sali: np.ndarray
     gali: np.ndarray
-    chaotic: bool              # SALI fell below the threshold
+    chaotic: bool              # SALI fell below the threshold on the finite orbit
     t_chaotic: float           # when it did (NaN if never)
     t_final: float
     steps: int
     method: str
-    completed: bool = True
-    message: str = ""
+    completed: bool = True     # t_end reached, or stopped chaotic
+    message: str = ""          # why the run ended early (blow-up: when and why)
     params: dict = field(default_factory=dict)
+    blew_up: bool = False      # the run ended in a blow-up
+    t_blowup: float = math.nan
 
     @property
     def mle_final(self) -> float:
         return float(self.mle[-1]) if self.mle.size else float("nan")
 
-    def classify(self, sali_threshold: float = 1e-8) -> str:
-        """'chaotic' if SALI fell below the threshold; 'blow-up' if the orbit blew up first;
-        otherwise 'regular' when lambda(t) keeps following the 1/t law (lambda t bounded over the
-        last decade), else 'undecided'."""
-        if self.chaotic or (self.sali.size and np.nanmin(self.sali) < sali_threshold):
-            return "chaotic"
-        if not self.completed:
-            return "blow-up"
-        if self.t.size < 3:
-            return "undecided"
-        late = self.t >= self.t[-1] / 10
-        lt = self.mle[late] * self.t[late]
-        # regular: lambda*t grows at most like log t (bounded up to slow growth)
-        return "regular" if lt[-1] <= 3.0 * max(lt[0], 1.0) + 2 * math.log(10) else "undecided"
+    def classify(self, t_eval: float | None = None) -> str:
+        """The class at time t_eval (default: the end of the run): 'chaotic', 'regular',
+        'blow-up' or 'undecided' (see `classify_orbit`)."""
+        return classify_orbit(self.t, self.mle, chaotic=self.chaotic, t_chaotic=self.t_chaotic,
+                              blew_up=self.blew_up, t_blowup=self.t_blowup,
+                              t_final=self.t_final, t_eval=t_eval)
 
 
 def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res) -> int:
     """fpl_chaos_run through the resumable handle, 100 segments, a tqdm bar between them."""
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
     out = ffi.new("fpl_chaos **")
     status = lib.fpl_chaos_create(lattice._h, method.encode(), io, t0, ptr(y), w, co, out)
     if status < 0:
@@ -72,17 +104,85 @@ def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res) -> int:
     return status
 
 
+def _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sali_threshold,
+                   stop_when_chaotic, seed, blowup_stretch):
+    """A validated fpl_chaos_options (defaults from fpl_chaos_options_init)."""
+    co = ffi.new("fpl_chaos_options *")
+    lib.fpl_chaos_options_init(co)
+    co.t_end = _real(t_end, "t_end")
+    if renorm_interval is not None:
+        co.renorm_interval = _real(renorm_interval, "renorm_interval")
+    co.n_samples = _int(n_samples, "n_samples")
+    co.t_first_sample = _real(t_first_sample, "t_first_sample")
+    co.n_dev = _int(n_dev, "n_dev")
+    co.sali_threshold = _real(sali_threshold, "sali_threshold")
+    co.stop_when_chaotic = bool(stop_when_chaotic)
+    seed = _int(seed, "seed")
+    if seed < 0:
+        raise ValueError(f"seed must be >= 0 (got {seed})")
+    co.seed = seed
+    if blowup_stretch is not None:
+        co.blowup_stretch = _real(blowup_stretch, "blowup_stretch")
+    return co
+
+
 def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
              rtol: float = 1e-10, atol: float = 1e-12, y0=None, w0=None, n_dev: int = 2,
              renorm_interval: float = 1.0, n_samples: int = 200, t_first_sample: float = 0.0,
              sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
-             t0: float = 0.0, progress: bool = False) -> ChaosResult:
-    """Follow the orbit y0 (default: the paper's mode-1 state) with n_dev deviation vectors (w0,
-    shape (n_dev, 2N), default Gaussian random from `seed`) and return lambda, SALI, GALI_n_dev.
+             t0: float = 0.0, progress: bool = False,
+             blowup_stretch: float | None = None) -> ChaosResult:
+    """Chaos indicators of one orbit: finite-time mLE λ(t), SALI(t) and GALI_k(t) (paper Sec. 5).
 
-    Fixed-step methods (tangent map) use dt (default 0.01); adaptive methods (variational
-    equations, e.g. method="dop853", the paper's choice for model 3) use rtol/atol.
-    progress: a progress bar with ETA on a terminal (the same computation, in 100 segments)."""
+    Fixed-step methods carry the deviation vectors with the tangent map of the scheme;
+    adaptive methods (e.g. "dop853", the paper's choice for model 3) integrate the variational
+    equations.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice.
+    t_end : float
+        Final time.
+    method : str, optional
+        Integrator name (`fputlab.methods()`); default "yoshida4" (the paper's for model 1).
+    dt : float, optional
+        Step of the fixed-step methods (default 0.01).
+    rtol, atol : float, optional
+        Tolerances of the adaptive methods.
+    y0 : array_like, optional
+        Initial orbit state, length 2N (default: the paper's mode-1 state, Eq. initxi).
+    w0 : array_like, optional
+        Initial deviation vectors, shape (n_dev, 2N) (default: Gaussian random from `seed`).
+    n_dev : int, optional
+        Number of deviation vectors (2 for SALI; GALI_k uses all k).
+    renorm_interval : float, optional
+        Time between renormalisations of the deviation vectors.
+    n_samples : int, optional
+        Number of log-spaced sample times.
+    t_first_sample : float, optional
+        First sample time (0: one renormalisation interval).
+    sali_threshold : float, optional
+        SALI below this marks the orbit chaotic.
+    stop_when_chaotic : bool, optional
+        End the run once SALI falls below the threshold.
+    seed : int, optional
+        Seed of the random initial deviation vectors.
+    t0 : float, optional
+        Initial time.
+    progress : bool, optional
+        A progress bar with ETA (tqdm.auto; the same computation, in segments).
+    blowup_stretch : float, optional
+        A bond stretch above this at a renormalisation ends the run as a blow-up (default: the
+        cubic barrier 1/alpha; < 0 turns the check off).
+
+    Returns
+    -------
+    ChaosResult
+        ``t``, ``mle``, ``sali``, ``gali`` at the sample times, and whether and when the orbit
+        was found chaotic. A blow-up ends the run cleanly: ``blew_up``, ``t_blowup`` and
+        ``message`` say when and why, and the samples before it are kept.
+    """
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     adaptive = method_info(method)["adaptive"]
@@ -97,19 +197,8 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     lib.fpl_integrator_options_init(io)
     io.dt = (0.0 if adaptive else 0.01) if dt is None else _real(dt, "dt")
     io.rtol, io.atol = _real(rtol, "rtol"), _real(atol, "atol")
-    co = ffi.new("fpl_chaos_options *")
-    lib.fpl_chaos_options_init(co)
-    co.t_end = _real(t_end, "t_end")
-    co.renorm_interval = _real(renorm_interval, "renorm_interval")
-    co.n_samples = _int(n_samples, "n_samples")
-    co.t_first_sample = _real(t_first_sample, "t_first_sample")
-    co.n_dev = n_dev
-    co.sali_threshold = _real(sali_threshold, "sali_threshold")
-    co.stop_when_chaotic = bool(stop_when_chaotic)
-    seed = _int(seed, "seed")
-    if seed < 0:
-        raise ValueError(f"seed must be >= 0 (got {seed})")
-    co.seed = seed
+    co = _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sali_threshold,
+                        stop_when_chaotic, seed, blowup_stretch)
     S = max(co.n_samples, 1)
     t, mle, sali, gali = (np.full(S, np.nan) for _ in range(4))
     res = ffi.new("fpl_chaos_result *")
@@ -119,16 +208,19 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     else:
         status = lib.fpl_chaos_run(lattice._h, method.encode(), io, _real(t0, "t0"), ptr(y), w, co,
                                    ptr(t), ptr(mle), ptr(sali), ptr(gali), res)
+    message = last_error() if status != 0 else ""
     k = res.n_samples
     out = ChaosResult(t=t[:k], mle=mle[:k], sali=sali[:k], gali=gali[:k], chaotic=bool(res.chaotic),
                       t_chaotic=res.t_chaotic, t_final=res.t_final, steps=res.steps, method=method,
+                      completed=bool(res.completed), message=message,
                       params={"N": N, "model": lattice.model, "tau": lattice.tau,
                               "seed": lattice.seed, "t_end": t_end, "dt": io.dt,
-                              "renorm_interval": renorm_interval})
+                              "renorm_interval": co.renorm_interval},
+                      blew_up=bool(res.blew_up), t_blowup=res.t_blowup)
     if status < 0:
         try:
             check(status)
-        except IntegrationError as err:     # a blow-up: keep what was computed
+        except IntegrationError as err:     # a numerical failure (not a blow-up): keep the samples
             out.completed, out.message = False, str(err)
             return out
     return out
@@ -141,30 +233,58 @@ def _one_realisation(args):
     return N, seed, res
 
 
+def ensemble_defaults(method: str | None, kwargs: dict) -> tuple[str, dict]:
+    """(method, options) of a chaos ensemble: ENSEMBLE_METHOD at ENSEMBLE_DT unless a method is
+    given, and early stop of chaotic orbits unless stop_when_chaotic is given."""
+    kwargs = dict(kwargs)
+    if method is None:
+        method = ENSEMBLE_METHOD
+        kwargs.setdefault("dt", ENSEMBLE_DT)
+    kwargs.setdefault("stop_when_chaotic", True)
+    return method, kwargs
+
+
 def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float = 10.0, *,
                      t_end: float = 1e4, model: str = "nonlinear", alpha: float = 0.25,
-                     method: str = "yoshida4", first_seed: int = 1, workers: int | None = None,
-                     progress: bool = False, **kwargs) -> dict:
-    """Percentage of chaotic orbits (SALI < threshold) over `realisations` disorder draws for each N
-    (paper Fig. 14: tau = 10 %, model 3, DOP853, t = 1e8). Realisations run in parallel processes.
-    Returns {"N": [...], "percent": [...], "results": {N: [ChaosResult, ...]}}."""
-    tasks = [(int(N), tau, first_seed + r, model, alpha, t_end, method, kwargs)
+                     method: str | None = None, first_seed: int = 1, workers: int | None = None,
+                     scheduler=None, progress: bool = False, **kwargs) -> dict:
+    """Percentage of chaotic orbits (SALI < threshold on a finite orbit) over `realisations`
+    disorder draws for each N (paper Fig. 14: tau = 10 %, model 3, t = 1e8), and how many blew
+    up (never counted as chaotic). Realisations run on the ensemble engine (local processes,
+    or a Dask cluster with `scheduler`). method: default ENSEMBLE_METHOD at ENSEMBLE_DT; chaotic
+    orbits stop early unless stop_when_chaotic=False. kwargs go to `lyapunov`.
+    Returns {"N", "percent", "blowups", "classes": {N: {class: count}},
+    "results": {N: [ChaosResult, ...]}}. For t = 1e8 use the resumable fputlab.study."""
+    from .ensemble import run_calls
+    method, kwargs = ensemble_defaults(method, kwargs)
+    realisations = _int(realisations, "realisations")
+    if realisations < 1:
+        raise ValueError(f"realisations must be >= 1 (got {realisations})")
+    Ns = [_int(N, "Ns") for N in Ns]
+    if not Ns:
+        raise ValueError("Ns must not be empty")
+    calls = [((N, tau, first_seed + r, model, alpha, t_end, method, kwargs),)
              for N in Ns for r in range(realisations)]
-    results: dict = {int(N): [] for N in Ns}
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        it = pool.map(_one_realisation, tasks)
-        if progress:
-            from tqdm import tqdm
-            it = tqdm(it, total=len(tasks), desc="chaos", disable=None)
-        for N, seed, res in it:
-            results[N].append(res)
-    percent = [100.0 * np.mean([r.classify() == "chaotic" for r in results[int(N)]]) for N in Ns]
-    blowups = [int(sum(r.classify() == "blow-up" for r in results[int(N)])) for N in Ns]
-    return {"N": [int(N) for N in Ns], "percent": percent, "blowups": blowups, "results": results}
+    got: dict = {}
+    from tqdm.auto import tqdm
+    with tqdm(total=len(calls), desc="chaos", disable=None if progress else True) as bar:
+        for _, out, err in run_calls(_one_realisation, calls, workers=workers,
+                                     scheduler=scheduler):
+            if err is not None:
+                raise err
+            N, seed, res = out
+            got[N, seed] = res
+            bar.update(1)
+    results = {N: [got[N, first_seed + r] for r in range(realisations)] for N in Ns}
+    classes = {N: {c: sum(r.classify() == c for r in results[N]) for c in CLASSES} for N in Ns}
+    percent = [100.0 * classes[N]["chaotic"] / realisations for N in Ns]
+    blowups = [classes[N]["blow-up"] for N in Ns]
+    return {"N": Ns, "percent": percent, "blowups": blowups, "classes": classes,
+            "results": results}
 
 
 def sali(w1, w2) -> float:
-    """SALI of two vectors: min(|w1^ - w2^|, |w1^ + w2^|)."""
+    """SALI of two vectors: ``min(|w1^ - w2^|, |w1^ + w2^|)``."""
     a = as_float_array(w1, "w1")
     b = as_float_array(w2, "w2", a.shape)
     out = ffi.new("double *")

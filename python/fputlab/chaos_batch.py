@@ -20,7 +20,7 @@ from .lattice import Lattice, _int, _real
 #: methods the batch kernel runs (splitting schemes with the kinetic drift)
 BATCH_METHODS = ("leapfrog", "yoshida4", "aba864", "srkn14a6")
 
-_BLOWUP_REASONS = {0: "", 1: "event", 2: "non-finite"}
+_BLOWUP_REASONS = {0: "", 1: "event", 2: "non-finite", 3: "stretch"}
 
 
 def _states(values, name: str, R: int, shape: tuple, default):
@@ -40,7 +40,8 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
                    y0=None, w0=None, n_dev: int = 2, renorm_interval: float = 1.0,
                    n_samples: int = 200, t_first_sample: float = 0.0,
                    sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
-                   t0: float = 0.0, criteria=None, progress: bool = False) -> list[ChaosResult]:
+                   t0: float = 0.0, criteria=None, progress: bool = False,
+                   blowup_stretch: float | None = None) -> list[ChaosResult]:
     """lambda(t), SALI(t), GALI(t) of several orbits computed together; one ChaosResult each.
 
     Parameters
@@ -68,6 +69,10 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
         carry (none for a fresh Lattice). "mode_energy" is not supported here.
     progress : bool
         A progress bar with ETA (the same computation in 100 segments).
+    blowup_stretch : float, optional
+        As in `fputlab.chaos.lyapunov`: a bond stretch above this at a renormalisation ends the
+        orbit as a blow-up, before SALI is looked at. Default: 1/alpha (the barrier) for
+        alpha > 0; a negative value switches the check off.
 
     Returns
     -------
@@ -75,7 +80,7 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
         In the order of `lattices`. An orbit that blew up has ``completed=False``, the reason in
         ``message`` and ``chaotic=False`` unless SALI fell below the threshold on the finite orbit
         at least one renormalisation interval before the blow-up; ``params`` carries
-        ``blew_up``, ``t_blowup``, ``blowup_reason`` ("event" or "non-finite"), ``sali_final``,
+        ``blew_up``, ``t_blowup``, ``blowup_reason`` ("event", "stretch" or "non-finite"), ``sali_final``,
         ``gali_final`` and ``mle_final``.
 
     Notes
@@ -125,6 +130,8 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     if seed < 0:
         raise ValueError(f"seed must be >= 0 (got {seed})")
     bo.seed = seed
+    if blowup_stretch is not None:
+        bo.blowup_stretch = _real(blowup_stretch, "blowup_stretch")
     t0 = _real(t0, "t0")
     handles = ffi.new("fpl_lattice *[]", [lat._h for lat in lattices])
     out = ffi.new("fpl_chaos_batch **")

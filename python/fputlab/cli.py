@@ -19,8 +19,9 @@ def _lattice_args(p, model="nonlinear", tau=10.0, N=64):
     p.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"])
 
 
-def _method_args(p, dt=0.01):
-    p.add_argument("--method", default="yoshida4", help="integrator (see `fputlab methods`)")
+def _method_args(p, dt=0.01, method="yoshida4"):
+    p.add_argument("--method", default=method, help=f"integrator (see `fputlab methods`; "
+                   f"default {method or 'yoshida4, ensembles srkn14a6 at dt = 0.5'})")
     p.add_argument("--dt", type=float, default=None, help=f"fixed step (default {dt:g})")
     p.add_argument("--rtol", type=float, default=1e-10)
     p.add_argument("--atol", type=float, default=1e-12)
@@ -158,13 +159,17 @@ def cmd_chaos(a):
     from .chaos import chaotic_fraction, lyapunov
     if a.checkpoint and (not a.out or a.realisations > 1):
         raise ValueError("--checkpoint needs --out and one orbit (use `fputlab sweep` for ensembles)")
-    opts = dict(_integrator_kwargs(a), n_samples=a.samples, stop_when_chaotic=a.stop_when_chaotic)
+    opts = dict(_integrator_kwargs(a), n_samples=a.samples)
+    if a.stop_when_chaotic:
+        opts["stop_when_chaotic"] = True
     if a.realisations > 1:
         _ensemble_lattice_check(a)
         out = chaotic_fraction(Ns=a.Ns, realisations=a.realisations, tau=a.tau, t_end=a.t_end,
                                model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
                                workers=a.workers, progress=not a.json, **opts)
-        summary = {"N": out["N"], "percent_chaotic": out["percent"], "tau": a.tau, "t_end": a.t_end}
+        summary = {"N": out["N"], "percent_chaotic": out["percent"],
+                   "blew_up": out["blowups"], "classes": out["classes"], "tau": a.tau,
+                   "t_end": a.t_end, "method": out["results"][out["N"][0]][0].method}
         if a.out:
             rows = [(N, i, r.mle_final, float(r.sali[-1]) if r.sali.size else np.nan, r.t_final)
                     for N in out["N"] for i, r in enumerate(out["results"][N])]
@@ -177,20 +182,26 @@ def cmd_chaos(a):
     if a.out:
         # written as it goes, with checkpoints: runs to t = 1e8 survive interruptions
         from .io import chaos_to_file
-        s = chaos_to_file(_lattice(a), a.t_end, a.out, method=a.method, **opts,
+        s = chaos_to_file(_lattice(a), a.t_end, a.out, method=a.method or "yoshida4", **opts,
                           **_checkpoint_kwargs(a))
         _emit(_run_summary(s), a.json)
         return {"completed": 0, "interrupted": 130}.get(s.status, 1)
-    res = lyapunov(_lattice(a), a.t_end, method=a.method, progress=not a.json, **opts)
-    _emit({"mle": res.mle_final, "sali": float(res.sali[-1]) if res.sali.size else None,
-           "class": res.classify(), "t_final": res.t_final, "steps": res.steps}, a.json)
+    res = lyapunov(_lattice(a), a.t_end, method=a.method or "yoshida4", progress=not a.json,
+                   **opts)
+    summary = {"mle": res.mle_final, "sali": float(res.sali[-1]) if res.sali.size else None,
+               "class": res.classify(), "t_final": res.t_final, "steps": res.steps}
+    if res.blew_up:
+        summary.update(t_blowup=res.t_blowup, message=res.message)
+    _emit(summary, a.json)
     return 0
 
 
 def cmd_figures(a):
     from .figures import all_figures
     only = set(a.only) if a.only else None
-    for p in all_figures(a.out, full=a.full, only=only):
+    study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
+             "scheduler": a.scheduler}
+    for p in all_figures(a.out, full=a.full, only=only, **study):
         print(p)
     return 0
 
@@ -373,7 +384,7 @@ def build_parser():
 
     s = sub.add_parser("chaos", help="mLE and SALI of one orbit, or the chaotic fraction (Fig. 14)")
     _lattice_args(s)
-    _method_args(s)
+    _method_args(s, method=None)
     s.add_argument("--t-end", type=float, default=1e4)
     s.add_argument("--samples", type=int, default=200)
     s.add_argument("--stop-when-chaotic", action="store_true")
@@ -466,6 +477,14 @@ def build_parser():
     s.add_argument("--out", default="figures", help="output directory (default figures/)")
     s.add_argument("--full", action="store_true", help="the paper's settings (t = 1e8: very long)")
     s.add_argument("--only", type=int, nargs="+", help="figure numbers to make")
+    s.add_argument("--work-dir", help="chaos study of Figs. 12-14: one state file per orbit, "
+                   "resumed by the next call (default OUT/chaos_study)")
+    s.add_argument("--t-end", type=float, help="how far the chaos study goes in this call "
+                   "(default 1e5, with --full 1e8); rerun with a larger value to continue")
+    s.add_argument("--workers", type=int, help="local processes for the chaos study "
+                   "(default: all cores)")
+    s.add_argument("--scheduler", help="Dask scheduler address tcp://host:port for the chaos "
+                   "study (the work directory must be shared)")
     s.set_defaults(func=cmd_figures)
 
     s = sub.add_parser("methods", help="list the integrators")

@@ -39,7 +39,8 @@ COLUMNS = {
     "blowup": {"blew_up": bool, "time": float, "criterion": str, "t_reached": float,
                "tau_c": float},
     "chaos": {"mle": float, "sali": float, "classification": str, "t_final": float,
-              "chaotic": bool, "t_chaotic": float, "steps": np.int64, "completed": bool},
+              "chaotic": bool, "t_chaotic": float, "steps": np.int64, "completed": bool,
+              "blew_up": bool, "t_blowup": float},
 }
 #: per-task series of the chaos kind (stored as 2-D datasets, NaN-padded, in the merged file)
 SERIES = {"chaos": ("t", "mle_t", "sali_t")}
@@ -126,6 +127,7 @@ def _compute(task: Task, spec: SweepSpec) -> dict:
                    classification=res.classify(), t_final=float(res.t_final),
                    chaotic=bool(res.chaotic), t_chaotic=float(res.t_chaotic),
                    steps=int(res.steps), completed=bool(res.completed),
+                   blew_up=bool(res.blew_up), t_blowup=float(res.t_blowup),
                    t=np.asarray(res.t, float), mle_t=np.asarray(res.mle, float),
                    sali_t=np.asarray(res.sali, float))
     else:
@@ -236,6 +238,9 @@ def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, met
         raise ValueError(f"first_seed must be an integer >= 0 (got {first_seed!r})")
     if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
         raise ValueError(f"workers must be an integer >= 1 (got {workers!r})")
+    if kind == "chaos":      # the validated fast scheme and early stop, unless given
+        from .chaos import ensemble_defaults
+        method, task_options = ensemble_defaults(method, task_options)
     method = "yoshida4" if method is None else method
     if not isinstance(method, str):
         raise ValueError(f"method must be a string (got {method!r})")
@@ -267,33 +272,51 @@ def _dask_client(scheduler):
                      f"or a cluster (got {type(scheduler).__name__})")
 
 
-def _run_local(todo, spec, workers):
-    pool = ProcessPoolExecutor(max_workers=workers)
-    try:
-        futs = {pool.submit(run_task, t, spec): t for t in todo}
-        for fut in as_completed(futs):
-            err = fut.exception()
-            yield futs[fut], (None if err else fut.result()), err
-    finally:                                  # on an interrupt, drop the tasks not started
-        pool.shutdown(wait=True, cancel_futures=True)
-
-
-def _run_dask(todo, spec, scheduler):
+def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None):
+    """The ensemble engine: yield (call, result, error) for fn(*call) over every call (a tuple
+    of picklable arguments), in completion order, on a local process pool (`workers`, default
+    all cores) or, with `scheduler`, on a Dask cluster (`keys`: optional Dask task keys).
+    Exactly one of result and error is None. Every sweep of fputlab runs on it."""
+    calls = list(calls)
+    if scheduler is None:
+        pool = ProcessPoolExecutor(max_workers=workers)
+        try:
+            futs = {pool.submit(fn, *c): c for c in calls}
+            for fut in as_completed(futs):
+                err = fut.exception()
+                yield futs[fut], (None if err else fut.result()), err
+        finally:                              # on an interrupt, drop the calls not started
+            pool.shutdown(wait=True, cancel_futures=True)
+        return
     from dask.distributed import as_completed as dask_as_completed
     client, owned = _dask_client(scheduler)
-    key = spec.key()
     try:
-        futs = {client.submit(run_task, t, spec, key=f"fputlab-{t.stem(key)}"): t for t in todo}
+        futs = {}
+        for i, c in enumerate(calls):
+            kw = {"key": keys[i]} if keys is not None else {"pure": False}
+            futs[client.submit(fn, *c, **kw)] = c
         for fut in dask_as_completed(list(futs)):
             try:
                 yield futs[fut], fut.result(), None
-            except Exception as err:          # the task's own exception, re-raised by Dask
+            except Exception as err:          # the call's own exception, re-raised by Dask
                 yield futs[fut], None, err
             finally:
                 fut.release()
     finally:
         if owned:
             client.close()
+
+
+def _run_local(todo, spec, workers):
+    for (task, _), rec, err in run_calls(run_task, [(t, spec) for t in todo], workers=workers):
+        yield task, rec, err
+
+
+def _run_dask(todo, spec, scheduler):
+    key = spec.key()
+    for (task, _), rec, err in run_calls(run_task, [(t, spec) for t in todo], scheduler=scheduler,
+                                         keys=[f"fputlab-{t.stem(key)}" for t in todo]):
+        yield task, rec, err
 
 
 # ---- the sweep --------------------------------------------------------------------------------
@@ -334,7 +357,7 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
     todo = [t for t in tasks if t not in records]
     failed: list[tuple[Task, str]] = []
     if todo:
-        from tqdm import tqdm
+        from tqdm.auto import tqdm
         bar = tqdm(total=len(todo), desc=f"{kind} sweep", unit="task",
                    disable=None if progress else True)
         bar.set_postfix(skipped=skipped)

@@ -1,6 +1,8 @@
-"""Figures of the paper's Sec. 4 (Figs. 4-10): `fig4(out)` ... `fig10(out)` each write one PNG and
-return a dict of the numbers shown. Quick by default (seconds); `quick=False` uses the paper's
-dt = 0.01 / longer runs where that matters. Nothing here opens a window (Agg backend).
+"""Figures of the paper's Sec. 4 (Figs. 4-10). Like every figure function of fputlab,
+``figN(out_dir=".", *, full=False, **options)`` writes one PNG into `out_dir` (or to `out_dir`
+itself if that ends in .png) and returns a `Figure`: its path, carrying the numbers shown
+(``fig.numbers``, ``fig["key"]``). Quick by default (seconds); `full=True` uses the paper's
+dt = 0.01 / longer runs / finer grids where that matters. Nothing here opens a window (Agg).
 
 Disorder realisation: Figs. 4 and 6 use seed PAPER_LIKE_SEED (= 578), the realisation among seeds
 1..1000 whose (A~, B~) at tau = 10 % is closest to the values the paper quotes for its tau = 10 %
@@ -14,11 +16,14 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from . import reduction as red
+from ._figure import Figure, target
+from .plotting import plot_bifurcation, plot_bifurcation_curves, plot_two_mode
 from .lattice import Lattice
 
 PAPER_LIKE_SEED = 578
 #: (A~, B~) the paper quotes for Figs. 9(a), 9(b) and 10
 PAPER_POINTS = {"tau0": (3.63, 0.91), "tau10": (4.97, 0.05), "blowup": (5.3932, -0.0015)}
+_POINT_NAMES = {"tau0": "τ = 0", "tau10": "τ = 10%", "blowup": "blow-up (Fig. 10)"}
 
 
 def _pyplot():
@@ -26,6 +31,13 @@ def _pyplot():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt
+
+
+def _figure(numbers: dict):
+    """The figure's result: its path (numbers["path"]) as a Figure carrying the other numbers."""
+    result = Figure(numbers["path"])
+    result.numbers = {k: v for k, v in numbers.items() if k != "path"}
+    return result
 
 
 def _save(fig, out) -> str:
@@ -54,12 +66,14 @@ def _lattice(N, tau, seed, alpha=0.25):
 
 # ---- Fig. 4 ------------------------------------------------------------------------------------
 
-def fig4(out="fig04_galerkin.png", *, quick: bool = True, N: int = 64, taus=(0.0, 5.0, 10.0),
+def fig4(out_dir=".", *, full: bool = False, N: int = 64, taus=(0.0, 5.0, 10.0),
          Ms=(2, 4, 8), t_end: float = 1.5e5, dt: float | None = None,
-         seed: int = PAPER_LIKE_SEED) -> dict:
+         seed: int = PAPER_LIKE_SEED) -> Figure:
     """E_1..E_4 of the Galerkin truncation to M = 2, 4, 8 modes (rows: tau; columns: M), model 3.
     dt = 0.1 when quick (Yoshida 4; the truncated systems have omega_M <= 0.4, and E_k agree with
     dt = 0.05 to 1e-4 relative), else the paper's 0.01."""
+    quick = not full
+    out = target(out_dir, "fig04_galerkin.png")
     plt = _pyplot()
     dt = (0.1 if quick else 0.01) if dt is None else dt
     every = max(20.0, t_end / 5000)
@@ -94,16 +108,18 @@ def fig4(out="fig04_galerkin.png", *, quick: bool = True, N: int = 64, taus=(0.0
     fig.suptitle(f"Galerkin truncation of Eq. (varnonlin) to the first M modes, N = {N}, "
                  f"α = 0.25, seed {seed}, dt = {dt:g}")
     summary["path"] = _save(fig, out)
-    return summary
+    return _figure(summary)
 
 
 # ---- Fig. 5 ------------------------------------------------------------------------------------
 
-def fig5(out="fig05_coefficients.png", *, quick: bool = True, N: int = 64, R: int = 100,
-         seed0: int = 1, tau_max: float = 20.0) -> dict:
+def fig5(out_dir=".", *, full: bool = False, N: int = 64, R: int = 100,
+         seed0: int = 1, tau_max: float = 20.0) -> Figure:
     """A~(tau), B~(tau): mean over R realisations (dash-dotted) with +-1 sd bands, the quadratic
     fit of the mean (as the paper), the exact expectation and +-1 sd (closed form, black) and
     tau_c. Quick or not, this is cheap (R projections per tau)."""
+    quick = not full
+    out = target(out_dir, "fig05_coefficients.png")
     plt = _pyplot()
     taus = np.linspace(0.0, tau_max, 41 if quick else 201)
     ens = red.ensemble_statistics(taus, N, 0.25, R, seed0=seed0)
@@ -126,22 +142,24 @@ def fig5(out="fig05_coefficients.png", *, quick: bool = True, N: int = 64, R: in
         ax.legend(fontsize=8, loc="upper left" if name == "A" else "lower left", frameon=False)
     ax_b.axhline(0.0, color="k", ls="--", lw=0.8)
     ax_b.axvline(tc.exact, color="k", lw=0.6, ls=(0, (2, 2)))
-    ax_b.annotate(f"τ_c: exact {tc.exact:.4f}%, fit {tc.fit:.4f}%", (tc.exact, 0.0),
+    ax_b.annotate(r"$\tau_c$" + f": exact {tc.exact:.4f}%, fit {tc.fit:.4f}%", (tc.exact, 0.0),
                   xytext=(0.45, 0.9), textcoords="axes fraction", fontsize=9,
                   arrowprops=dict(arrowstyle="->", lw=0.6))
     ax_a.set_title(r"(a) $\tilde A$ vs tolerance, N = %d" % N)
-    ax_b.set_title(r"(b) $\tilde B$ vs tolerance (paper: τ_c ≈ 10.0749%)")
+    ax_b.set_title(r"(b) $\tilde B$ vs tolerance (paper: $\tau_c \approx 10.0749\%$)")
     s = tc.summary()
     s["path"] = _save(fig, out)
-    return s
+    return _figure(s)
 
 
 # ---- Fig. 6 ------------------------------------------------------------------------------------
 
-def fig6(out="fig06_envelopes.png", *, quick: bool = True, N: int = 64, taus=(0.0, 10.0),
-         t_end: float = 1e5, seed: int = PAPER_LIKE_SEED) -> dict:
+def fig6(out_dir=".", *, full: bool = False, N: int = 64, taus=(0.0, 10.0),
+         t_end: float = 1e5, seed: int = PAPER_LIKE_SEED) -> Figure:
     """Q_1 (blue), Q_2 (red) of the two-mode ODE (msvar) and their envelopes +-2|q_j| (black) from
     the envelope equations (msfinal2), q_1(0) = Q_1(0)/2, q_2(0) = 0, T = eps t."""
+    quick = not full
+    out = target(out_dir, "fig06_envelopes.png")
     plt = _pyplot()
     dt = 0.05 if quick else 0.01
     fig, axes = plt.subplots(1, len(taus), figsize=(6.5 * len(taus), 4.2), constrained_layout=True,
@@ -151,107 +169,57 @@ def fig6(out="fig06_envelopes.png", *, quick: bool = True, N: int = 64, taus=(0.
         c = red.two_mode_coefficients(_lattice(N, tau, seed))
         run = red.two_mode_run(c, t_end, dt=dt, sample_every=2.0)
         env = red.envelope_run(c.A_tilde, c.B_tilde, c.eps * t_end, N=N, dT=1e-3)
-        tt = np.linspace(0.0, t_end, 2000)
-        amp = 2.0 * np.abs(env.at(c.eps * tt))
-        ax.plot(run.t, run.Q[:, 0], color="C0", lw=0.3, label="$Q_1$")
-        ax.plot(run.t, run.Q[:, 1], color="C3", lw=0.3, label="$Q_2$")
-        for j in range(2):
-            ax.plot(tt, amp[:, j], "k", lw=1.0, label=r"$\pm 2|q_j|$" if j == 0 else None)
-            ax.plot(tt, -amp[:, j], "k", lw=1.0)
+        plot_two_mode(run, env, c.eps, ax=ax)
         err = red.envelope_error(run, env, c.eps)
         ax.set_title(f"({chr(97 + i)}) τ = {tau:g}%: " + r"$\tilde A$" + f" = {c.A_tilde:.3f}, "
                      + r"$\tilde B$" + f" = {c.B_tilde:.3f}", fontsize=10)
-        ax.set_xlabel("$t$")
-        ax.set_ylabel("$Q_1$, $Q_2$")
-        leg = ax.legend(loc="upper right", fontsize=8, ncol=3, framealpha=0.9)
-        for line in leg.get_lines():
-            line.set_linewidth(2.0)
         summary[f"tau={tau:g}"] = {"A_tilde": c.A_tilde, "B_tilde": c.B_tilde,
                                    "max_error_Q1": float(err[0]), "max_error_Q2": float(err[1])}
     fig.suptitle(f"Two-mode system (msvar) and envelope equations (msfinal2), N = {N}, "
-                 f"seed {seed}; leading order Q_j ≈ 2 Re(q_j e^(i(ω_j t + T))), T = εt")
+                 f"seed {seed}; leading order " + r"$Q_j \approx 2\,\mathrm{Re}\,(q_j\, "
+                 r"e^{i(\omega_j t + T)})$, $T = \varepsilon t$")
     summary["path"] = _save(fig, out)
-    return summary
+    return _figure(summary)
 
 
 # ---- Figs. 7-8 ---------------------------------------------------------------------------------
 
-_REGION_COLORS = ["#ffffff", "#b7d7f0", "#f5c9a8", "#d9ecc4", "#e0e0e0"]
-
-
-def _curves(ax, lo, hi, r1sq):
-    A = np.linspace(lo, hi, 4001)
-    # a NaN at A~ = 0 keeps the hyperbolas' two branches apart
-    A = np.concatenate([A[A < -1e-9], [np.nan], A[A > 1e-9]])
-    cv = red.bifurcation_curves(A, r1sq)
-    above = cv["blue"] > -A      # above the line A~ + B~ = 0: solid, below: dashed
-    for mask, ls in ((above, "-"), (~above, "--")):
-        ax.plot(np.where(mask, A, np.nan), np.where(mask, cv["blue"], np.nan), color="b", ls=ls,
-                lw=1.3)
-    ax.plot(A, cv["red"], color="r", lw=1.3)
-    ax.plot(A, cv["black"], "k--", lw=1.0)
-
-
-_REGION_LABELS = {
-    0: r"no equilibria: $1+12\tilde A\tilde B r_1^2<0$",
-    1: r"$\Delta_1$, $\Delta_2$ well defined, both centres",
-    2: r"$\Delta_1$ centre, $\Delta_2$ saddle, both well defined",
-    3: r"only $\Delta_1$ well defined",
-    4: "neither well defined",
-}
-
-
-def fig7(out="fig07_bifurcation.png", *, quick: bool = True, N: int = 64,
-         extent=(-1.0, 1.0, -1.0, 1.0), wide=(-1.0, 7.0, -1.5, 1.5)) -> dict:
+def fig7(out_dir=".", *, full: bool = False, N: int = 64,
+         extent=(-1.0, 1.0, -1.0, 1.0), wide=(-1.0, 7.0, -1.5, 1.5)) -> Figure:
     """Bifurcation diagram in the (A~, B~) plane for the paper's initial state (r_1^2 = (N+1)/8):
     regions by the equilibria present in the well-defined region and their type; blue
     1 + 12 A~B~r_1^2 = 0 (solid above A~ + B~ = 0, dashed below), red 1 - 4 A~B~r_1^2 = 0, black
     dashed A~ + B~ = 0. Right: wider view with E[A~], E[B~] along tau = 0..20 % and the paper's
     points."""
+    quick = not full
+    out = target(out_dir, "fig07_bifurcation.png")
     plt = _pyplot()
-    from matplotlib.colors import ListedColormap
-    from matplotlib.patches import Patch
     r1sq = red.r1_squared(N)
     n = 401 if quick else 1201
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.4), constrained_layout=True)
-    cmap = ListedColormap(_REGION_COLORS)
-    for ax, ext in zip(axes, (extent, wide)):
-        A, B = np.meshgrid(np.linspace(ext[0], ext[1], n), np.linspace(ext[2], ext[3], n))
-        code = red.classify(A, B, r1sq)
-        ax.imshow(code, origin="lower", extent=ext, aspect="auto", cmap=cmap, vmin=-0.5,
-                  vmax=4.5, interpolation="nearest")
-        _curves(ax, ext[0], ext[1], r1sq)
-        ax.axhline(0, color="0.4", lw=0.5)
-        ax.axvline(0, color="0.4", lw=0.5)
-        ax.set_xlim(ext[:2])
-        ax.set_ylim(ext[2:])
-        ax.set_xlabel(r"$\tilde A$")
-        ax.set_ylabel(r"$\tilde B$")
+    plot_bifurcation(axes[0], r1sq=r1sq, extent=extent, n=n, legend="lower left")
+    plot_bifurcation(axes[1], r1sq=r1sq, extent=wide, n=n, legend=None)
     taus = np.linspace(0, 20, 81)
     mom = red.coefficient_moments(taus, N)
     axes[1].plot(mom.A_tilde_mean, mom.B_tilde_mean, color="m", lw=1.5,
                  label=r"E[$\tilde A$], E[$\tilde B$], τ = 0..20%")
     for name, (a, b) in PAPER_POINTS.items():
-        axes[1].plot(a, b, "o", ms=5, label=f"paper {name}: ({a:g}, {b:g})")
+        axes[1].plot(a, b, "o", ms=5, label=f"paper, {_POINT_NAMES[name]}: ({a:g}, {b:g})")
     axes[1].legend(fontsize=8, loc="lower left")
-    handles = [Patch(facecolor=_REGION_COLORS[k], edgecolor="0.5", label=_REGION_LABELS[k])
-               for k in range(5)]
-    handles += [plt.Line2D([], [], color="b", label=r"$1+12\tilde A\tilde B r_1^2=0$"),
-                plt.Line2D([], [], color="r", label=r"$1-4\tilde A\tilde B r_1^2=0$"),
-                plt.Line2D([], [], color="k", ls="--", label=r"$\tilde A+\tilde B=0$")]
-    axes[0].legend(handles=handles, fontsize=7.5, loc="lower left", framealpha=0.9)
     for ax in axes:
         ax.text(0.98, 0.03, r"$\tilde A\tilde B<0$: well-defined region unbounded", ha="right",
                 transform=ax.transAxes, fontsize=8, color="0.3")
     axes[0].set_title(f"(a) equilibria of Eq. (reduced), r₁² = {r1sq:g}")
     axes[1].set_title("(b) wider view: the tolerance path and the paper's points")
-    return {"path": _save(fig, out), "r1sq": r1sq}
+    return _figure({"path": _save(fig, out), "r1sq": r1sq})
 
 
-def fig8(out="fig08_equilibria.png", *, quick: bool = True, N: int = 64,
-         extent=(-1.0, 1.0, -1.0, 1.0)) -> dict:
+def fig8(out_dir=".", *, full: bool = False, N: int = 64,
+         extent=(-1.0, 1.0, -1.0, 1.0)) -> Figure:
     """(a) Delta_1 and (b) tanh(Delta_2/100) over the (A~, B~) plane (white: no equilibria), with
     the curves of Fig. 7."""
+    quick = not full
+    out = target(out_dir, "fig08_equilibria.png")
     plt = _pyplot()
     r1sq = red.r1_squared(N)
     n = 401 if quick else 1201
@@ -267,14 +235,14 @@ def fig8(out="fig08_equilibria.png", *, quick: bool = True, N: int = 64,
         im = ax.imshow(data, origin="lower", extent=extent, aspect="auto",
                        interpolation="nearest", **kw)
         fig.colorbar(im, ax=ax, label=label)
-        _curves(ax, extent[0], extent[1], r1sq)
+        plot_bifurcation_curves(ax, extent[:2], r1sq)
         ax.set_xlim(extent[:2])
         ax.set_ylim(extent[2:])
         ax.set_xlabel(r"$\tilde A$")
         ax.set_ylabel(r"$\tilde B$")
     axes[0].set_title(r"(a) $\Delta_1$ (Eq. deltaequi), $r_1^2$ = %g" % r1sq)
     axes[1].set_title(r"(b) $\tanh(\Delta_2/100)$")
-    return {"path": _save(fig, out)}
+    return _figure({"path": _save(fig, out)})
 
 
 # ---- Figs. 9-10: phase portraits ----------------------------------------------------------------
@@ -351,11 +319,12 @@ def _phase_portrait(ax, A, B, *, N=64, delta_range=None, T_end=3.0, P_max=None, 
             "orbit_completed_T": float(T[-1])}
 
 
-def fig9(out="fig09_phase_portraits.png", *, quick: bool = True, N: int = 64,
-         points=(PAPER_POINTS["tau0"], PAPER_POINTS["tau10"])) -> dict:
+def fig9(out_dir=".", *, full: bool = False, N: int = 64,
+         points=(PAPER_POINTS["tau0"], PAPER_POINTS["tau10"])) -> Figure:
     """Phase portraits of Eqs. (delta3, theta3) in the slow time T (grey arrows, level sets of the
     invariant I = r_1^2 (1 + 2 A~ r_2 cos 2 theta)) for the paper's tau = 0 % and 10 % values, the
     well-defined region (white; grey outside), the equilibria and the orbit of the initial state."""
+    out = target(out_dir, "fig09_phase_portraits.png")   # full: the quick settings are already the paper's
     plt = _pyplot()
     fig, axes = plt.subplots(1, len(points), figsize=(6.5 * len(points), 5.0),
                              constrained_layout=True, squeeze=False)
@@ -364,21 +333,22 @@ def fig9(out="fig09_phase_portraits.png", *, quick: bool = True, N: int = 64,
         res[f"({chr(97 + i)})"] = _phase_portrait(ax, A, B, N=N, T_end=3.0,
                                                   label=f"({chr(97 + i)})")
     res["path"] = _save(fig, out)
-    return res
+    return _figure(res)
 
 
-def fig10(out="fig10_phase_portrait_blowup.png", *, quick: bool = True, N: int = 64,
-          point=PAPER_POINTS["blowup"], delta_max: float = 40.0) -> dict:
+def fig10(out_dir=".", *, full: bool = False, N: int = 64,
+          point=PAPER_POINTS["blowup"], delta_max: float = 40.0) -> Figure:
     """As Fig. 9 for (A~, B~) = (5.3932, -0.0015) (tau ~ 10.0833 % > tau_c): the region Delta > r_1^2
     is unbounded; Delta_1 is a centre, Delta_2 a saddle (orange: its separatrix), and the orbit of the
     initial state (blue) starts at the bottom and escapes to Delta -> infinity."""
+    out = target(out_dir, "fig10_phase_portrait_blowup.png")   # full: the quick settings are already the paper's
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 5.4), constrained_layout=True)
     r1sq = red.r1_squared(N)
     res = _phase_portrait(ax, *point, N=N, delta_range=(r1sq - 1.0, delta_max), T_end=200.0,
-                          P_max=1.5 * delta_max, label="τ ≈ 10.0833 % > τ_c:")
+                          P_max=1.5 * delta_max, label=r"τ ≈ 10.0833 % > $\tau_c$:")
     res["path"] = _save(fig, out)
-    return res
+    return _figure(res)
 
 
 FIGURES = {4: fig4, 5: fig5, 6: fig6, 7: fig7, 8: fig8, 9: fig9, 10: fig10}
@@ -387,7 +357,6 @@ FIGURES = {4: fig4, 5: fig5, 6: fig6, 7: fig7, 8: fig8, 9: fig9, 10: fig10}
 def example_main(number: int, doc: str, argv=None) -> int:
     """Command line shared by examples/figXX_*.py: --out DIR [--full]."""
     import argparse
-    import inspect
     import json
     import time
     parser = argparse.ArgumentParser(description=doc,
@@ -396,11 +365,9 @@ def example_main(number: int, doc: str, argv=None) -> int:
     parser.add_argument("--full", action="store_true",
                         help="paper-quality settings (smaller dt, finer grids; slower)")
     args = parser.parse_args(argv)
-    fn = FIGURES[number]
-    name = inspect.signature(fn).parameters["out"].default
     start = time.perf_counter()
-    res = fn(os.path.join(args.out, name), quick=not args.full)
-    res["seconds"] = round(time.perf_counter() - start, 2)
+    fig = FIGURES[number](args.out, full=args.full)
+    res = {"path": str(fig), **fig.numbers, "seconds": round(time.perf_counter() - start, 2)}
     print(json.dumps(res, indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else
                      str(o)))
     return 0

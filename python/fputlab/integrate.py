@@ -29,10 +29,28 @@ def method_info(method: str) -> dict:
 
 
 class Integrator:
-    """An integrator positioned at (t, y), with `n_dev` deviation vectors carried along.
+    """An integrator positioned at (t, y), with deviation vectors carried along: advance it,
+    sample it, checkpoint it; nothing is stored.
 
-    Fixed-step methods ("leapfrog", "yoshida4", ...) use `dt`; adaptive ones ("dop853",
-    "cvode-adams", ...) use `rtol`/`atol` (and `dt` as an initial step if given)."""
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice.
+    y0 : array_like
+        Initial state: length 2N (orbit only), or shape (1 + k, 2N) / length 2N(1 + k) with k
+        deviation vectors after the orbit.
+    method : str, optional
+        Integrator name (`fputlab.methods()`). Fixed-step methods ("leapfrog", "yoshida4", ...)
+        use `dt`; adaptive ones ("dop853", "cvode-adams", ...) use `rtol`/`atol`.
+    t0 : float, optional
+        Initial time.
+    dt : float, optional
+        Step of the fixed-step methods (required for them); an initial step for adaptive ones.
+    rtol, atol : float, optional
+        Tolerances of the adaptive methods.
+    max_steps : int, optional
+        Most steps per call of an adaptive back end (0: its default).
+    """
 
     def __init__(self, lattice: Lattice, y0, *, method: str = "yoshida4", t0: float = 0.0,
                  dt: float | None = None, rtol: float = 1e-10, atol: float = 1e-12,
@@ -157,9 +175,69 @@ class Run:
 
     @property
     def relative_energy_error(self) -> np.ndarray:
-        """|E(t) - E(0)| / |E(0)| at the samples (meaningful for the Hamiltonian models)."""
+        """``|E(t) - E(0)| / |E(0)|`` at the samples (meaningful for the Hamiltonian models)."""
         e0 = self.lattice.energy(self.y0)
         return np.abs(self.energy - e0) / abs(e0)
+
+    def __repr__(self) -> str:
+        from ._display import fmt, time_span
+        lat = self.lattice
+        parts = [f"N={lat.N}", f"model={lat.model!r}"]
+        if lat.seed is not None:
+            parts.append(f"tau={lat.tau:g}, seed={lat.seed}")
+        parts += [time_span(self.t), f"method={self.method!r}"]
+        if math.isfinite(self.dt):
+            parts.append(f"dt={self.dt:g}")
+        # model 3 conserves no energy: an "energy error" would mean nothing there
+        if lat.model != "nonlinear" and self.t.size and self.y0 is not None:
+            parts.append(f"max rel. energy error {fmt(float(np.max(self.relative_energy_error)))}")
+        if self.states is not None:
+            parts.append("states[" + "x".join(map(str, self.states.shape)) + "]")
+        if self.event:
+            parts.append(f"stopped by {self.event['criterion']!r} at t={fmt(self.event['time'])}")
+        if not self.completed:
+            parts.append(f"incomplete: {self.message[:80]!r}")
+        return f"Run({', '.join(parts)})"
+
+    def to_xarray(self):
+        """The samples as an ``xarray.Dataset`` with units and long names.
+
+        Dimensions ``t`` (sample times), ``mode`` (k = 1..N), ``site`` (j = 1..N) and, when states
+        were stored, ``component`` (x_1..x_N, p_1..p_N) and ``vector`` (0 = orbit, then the
+        deviation vectors). The lattice, method and step are attributes.
+
+        Returns
+        -------
+        xarray.Dataset
+
+        Raises
+        ------
+        ImportError
+            If xarray is not installed (``pip install 'fputlab[xarray]'``).
+        """
+        from ._display import require_xarray, variable
+        xr = require_xarray()
+        lat = self.lattice
+        data = {"energy": variable("t", self.energy, "energy"),
+                "mode_energies": variable(("t", "mode"), self.mode_energies, "mode_energies")}
+        if lat.model != "nonlinear" and self.y0 is not None:
+            data["relative_energy_error"] = variable("t", self.relative_energy_error,
+                                                     "relative_energy_error")
+        coords = {"t": variable("t", self.t, "t"),
+                  "mode": variable("mode", np.arange(1, lat.N + 1), "mode"),
+                  "site": variable("site", np.arange(1, lat.N + 1), "site"),
+                  "v": variable("site", lat.v, "v")}
+        if self.states is not None:
+            dims = ("t", "component") if self.states.ndim == 2 else ("t", "vector", "component")
+            data["states"] = variable(dims, self.states, "states")
+        attrs = {"N": lat.N, "alpha": lat.alpha, "beta": lat.beta, "model": lat.model,
+                 "tau": lat.tau, "method": self.method, "dt": self.dt,
+                 "completed": int(self.completed), "message": self.message}
+        if lat.seed is not None:
+            attrs["seed"] = lat.seed
+        if self.event:
+            attrs.update({"event_time": self.event["time"], "event_criterion": self.event["criterion"]})
+        return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def _sample_times(t0, t_end, sample_every, times):
@@ -184,19 +262,70 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
               times=None, y0=None, deviations=None, t0: float = 0.0, store_states: bool = False,
               stop_on=None, chunk: int = 4096, on_failure: str = "raise",
               progress: bool = False) -> Run:
-    """Integrate `lattice` from `y0` (default: the paper's mode-1 state, Eq. initxi) to `t_end`,
-    sampling at `times` or every `sample_every` (default: 1000 intervals).
+    """Integrate a lattice from `y0` to `t_end`, sampling mode energies and energy on the way.
 
-    method: a fixed-step splitting scheme (dt, default 0.01) or an adaptive method (rtol, atol);
-    see fputlab.methods(). deviations: initial deviation vectors, shape (k, 2N), carried with
-    the tangent map / variational equations (then store_states=True to get them back).
-    stop_on: stopping criteria, e.g. [("stretch", 4.0), ("energy", 1.0)] (see fputlab.blowup):
-    the run ends at the first crossing, located by root-finding, with `run.event` set and the
-    state there in `run.final_state`.
-    If the state becomes NaN/Inf (blow-up) or an adaptive back end gives up (CVODE/GSL step-size
-    failure at a blow-up), on_failure="raise" raises IntegrationError whose
-    `.result` holds the finite samples before it; "return" returns them with completed=False.
-    progress: a progress bar with ETA on a terminal (quiet when not a terminal)."""
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice (model, size, couplings, variability).
+    t_end : float
+        Final time (finite, >= `t0`).
+    method : str, optional
+        Integrator name (`fputlab.methods()`): a fixed-step splitting scheme ("yoshida4", the
+        default and the paper's; "leapfrog", "aba864", "srkn14a6", "aba864-harmonic") or an
+        adaptive method ("dop853", "dopri5", "verner65", "fehlberg87", "cvode-adams",
+        "cvode-bdf", "gsl-rk8pd").
+    dt : float, optional
+        Step of the fixed-step methods (default 0.01); an initial step for adaptive ones.
+    rtol, atol : float, optional
+        Relative and absolute tolerances of the adaptive methods.
+    sample_every : float, optional
+        Sampling interval (default: (t_end - t0)/1000). Exclusive with `times`.
+    times : array_like, optional
+        Explicit increasing sample times.
+    y0 : array_like, optional
+        Initial state [x, p] of length 2N (default: the paper's mode-1 state, Eq. initxi:
+        x_j = sin(πj/(N+1)), p = 0).
+    deviations : array_like, optional
+        Initial deviation vectors, shape (k, 2N), carried with the tangent map (splitting
+        schemes) or the variational equations (adaptive methods); use ``store_states=True`` to
+        get them back.
+    t0 : float, optional
+        Initial time.
+    store_states : bool, optional
+        Keep the full state at every sample in ``run.states``.
+    stop_on : list of tuple, optional
+        Stopping criteria, e.g. ``[("stretch", 4.0), ("energy", 1.0)]`` (see `fputlab.blowup`):
+        the run ends at the first crossing, located by root-finding, with ``run.event`` set and
+        the state there in ``run.final_state``.
+    chunk : int, optional
+        Samples computed per call into the C library (memory versus call overhead).
+    on_failure : {"raise", "return"}, optional
+        When the state becomes NaN/Inf (a blow-up) or an adaptive back end gives up: "raise"
+        raises `IntegrationError` whose ``.result`` holds the finite samples before it;
+        "return" returns them with ``completed=False``.
+    progress : bool, optional
+        A progress bar with ETA (tqdm.auto: a widget in Jupyter, text on a terminal, nothing
+        in pipes).
+
+    Returns
+    -------
+    Run
+        Sample times, mode energies, energies (and states), with the integrator's counters.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Invalid arguments (the message names the parameter).
+    IntegrationError
+        The integration failed and ``on_failure="raise"``.
+
+    Examples
+    --------
+    >>> import fputlab
+    >>> run = fputlab.integrate(fputlab.Lattice(64, 0.25), 7e4, sample_every=10.0)
+    >>> run.mode_energies[:, :4]          # E_1..E_4, paper Fig. 1b  # doctest: +SKIP
+    """
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     if on_failure not in ("raise", "return"):
@@ -238,7 +367,7 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
     message, completed, status = "", True, lib.FPL_ERR_NONFINITE
     bar = None
     if progress:
-        from tqdm import tqdm
+        from tqdm.auto import tqdm
         chunk = max(1, min(chunk, ts.size // 100))
         bar = tqdm(total=float(ts[-1] - t0), desc=f"integrate N={N}", unit="t", disable=None,
                    bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
@@ -279,7 +408,34 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
 def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: str = "yoshida4",
                  t0: float = 0.0, dt: float | None = None, rtol: float = 1e-10,
                  atol: float = 1e-12) -> Iterator[tuple[float, np.ndarray]]:
-    """Stream (t, state) pairs, state of shape (1 + k, 2N), without keeping the trajectory."""
+    """Stream (t, state) pairs without keeping the trajectory.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The lattice.
+    times : array_like
+        Increasing sample times.
+    y0 : array_like, optional
+        Initial orbit state, length 2N (default: the paper's mode-1 state).
+    deviations : array_like, optional
+        Initial deviation vectors, shape (k, 2N).
+    method : str, optional
+        Integrator name (`fputlab.methods()`).
+    t0 : float, optional
+        Initial time.
+    dt : float, optional
+        Step of the fixed-step methods (default 0.01).
+    rtol, atol : float, optional
+        Tolerances of the adaptive methods.
+
+    Yields
+    ------
+    t : float
+        The sample time.
+    state : numpy.ndarray
+        The state at `t`, shape (1 + k, 2N).
+    """
     N = lattice.N
     orbit = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * N,))
     state0 = orbit[None, :] if deviations is None else np.concatenate(

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._arrays import as_float_array, ptr
-from ._errors import FputlabError, check
+from ._errors import FputlabError, check, last_error
 from ._native import ffi, lib
 from .integrate import Integrator, method_info
 from .lattice import Lattice, _int, _real
@@ -211,7 +211,7 @@ def _check_every(steps, seconds):
 def _progress(total, desc, enabled, initial=0.0):
     if not enabled:
         return None
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
     return tqdm(total=total, initial=initial, desc=desc, unit="t", disable=None,
                 bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
 
@@ -390,7 +390,8 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
             while not lib.fpl_chaos_done(c) and stopper.signum is None:
                 before = res.n_samples
                 t_now = lib.fpl_integrator_time(ih)
-                check(lib.fpl_chaos_advance(c, t_now + seg, *(ptr(a) for a in arrays)))
+                if check(lib.fpl_chaos_advance(c, t_now + seg, *(ptr(a) for a in arrays))) > 0:
+                    summary.message = last_error()      # a blow-up: when and why
                 check(lib.fpl_chaos_get_result(c, res))
                 for j in range(before, res.n_samples):
                     results.append_chaos(*(a[j] for a in arrays))
@@ -412,7 +413,9 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
         check(lib.fpl_chaos_get_result(c, res))
         summary.t_reached, summary.samples = res.t_final, res.n_samples
         summary.extra = {"mle": res.mle, "sali": res.sali, "gali": res.gali,
-                         "chaotic": bool(res.chaotic), "t_chaotic": res.t_chaotic}
+                         "chaotic": bool(res.chaotic), "t_chaotic": res.t_chaotic,
+                         "blew_up": bool(res.blew_up), "t_blowup": res.t_blowup}
+
         results.set_status(summary.status, summary.message)
     return summary
 

@@ -50,7 +50,7 @@ def _int(value, name: str) -> int:
 def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.ndarray:
     """Variability v (length N) for tolerance tau (percent) from GSL's mt19937 seeded with seed.
 
-    gaussian: v = 1 + (tau/300) z (the paper); truncated: the same with |z| <= 3; uniform:
+    gaussian: v = 1 + (tau/300) z (the paper); truncated: the same with ``|z| <= 3``; uniform:
     v = 1 + (tau/100) u, u in (-1, 1)."""
     N = _int(N, "N")
     seed = _int(seed, "seed")
@@ -67,13 +67,37 @@ def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.n
 class Lattice:
     """An FPUT lattice x_0 = x_{N+1} = 0 with bond potential s^2/2 + alpha s^3/3 + beta s^4/4.
 
-    model: "homogeneous" (1), "hamiltonian" (2: v in linear and nonlinear couplings, masses v),
-    "nonlinear" (3: v in the nonlinear terms only; not Hamiltonian).
-    Disorder: give `v` directly, or `tau` (percent) with `seed` (and `disorder` kind); with no
-    seed a fresh one is drawn and kept in `.seed`, so every lattice can be rebuilt exactly.
-
     States are flat arrays y = [x, p] of length 2N (p = v x' for model 2, x' otherwise); with
-    deviation vectors, y = [x, p, dx1, dp1, ...] of length 2N(1+k) or shape (1+k, 2N)."""
+    deviation vectors, y = [x, p, dx1, dp1, ...] of length 2N(1+k) or shape (1+k, 2N).
+    Conventions (α = 0.25, normal modes, σ = τ/300) are in docs/conventions.md.
+
+    Parameters
+    ----------
+    N : int, optional
+        Number of particles (>= 2).
+    alpha : float, optional
+        Cubic coupling α (the paper's value is 0.25).
+    model : {"homogeneous", "hamiltonian", "nonlinear"} or {1, 2, 3}, optional
+        "homogeneous" (1; Eqs. Hamilt/eqnmotions); "hamiltonian" (2; v in the linear and
+        nonlinear couplings, masses v; Eqs. dis1/Hamilt2mod); "nonlinear" (3; v in the
+        nonlinear terms only, not Hamiltonian; Eq. varnonlin).
+    beta : float, optional
+        Quartic coupling β (FPUT-αβ; 0 in the paper).
+    tau : float, optional
+        Tolerance τ in percent: v_j = 1 + (τ/300) z_j (models 2 and 3).
+    seed : int, optional
+        Seed of the disorder draw (GSL mt19937); with `tau` and no seed a fresh one is drawn
+        and kept in ``.seed``, so every lattice can be rebuilt exactly.
+    disorder : {"gaussian", "truncated", "uniform"}, optional
+        Distribution of z (see `draw_disorder`).
+    v : array_like, optional
+        The variability v_j itself (length N), instead of `tau` and `seed`.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Invalid arguments; the message names the parameter.
+    """
 
     def __init__(self, N: int = 64, alpha: float = 0.25, model="homogeneous", *,
                  beta: float = 0.0, tau: float = 0.0, seed: int | None = None,
@@ -234,10 +258,58 @@ class Lattice:
         return y
 
     # -- integration --------------------------------------------------------------------------
-    def integrate(self, t_end: float, **kwargs):
-        """Shortcut for fputlab.integrate(self, t_end, ...)."""
+    def integrate(self, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
+                  rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
+                  times=None, y0=None, deviations=None, t0: float = 0.0,
+                  store_states: bool = False, stop_on=None, chunk: int = 4096,
+                  on_failure: str = "raise", progress: bool = False):
+        """Integrate this lattice: ``fputlab.integrate(self, t_end, ...)``.
+
+        Parameters
+        ----------
+        t_end : float
+            Final time (finite, >= `t0`).
+        method : str, optional
+            Integrator name (`fputlab.methods()`); default "yoshida4", the paper's.
+        dt : float, optional
+            Step of the fixed-step methods (default 0.01); an initial step for adaptive ones.
+        rtol, atol : float, optional
+            Tolerances of the adaptive methods.
+        sample_every : float, optional
+            Sampling interval (default: (t_end - t0)/1000). Exclusive with `times`.
+        times : array_like, optional
+            Explicit increasing sample times.
+        y0 : array_like, optional
+            Initial state [x, p], length 2N (default: the paper's mode-1 state, Eq. initxi).
+        deviations : array_like, optional
+            Initial deviation vectors, shape (k, 2N).
+        t0 : float, optional
+            Initial time.
+        store_states : bool, optional
+            Keep the full state at every sample.
+        stop_on : list of tuple, optional
+            Stopping criteria, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`).
+        chunk : int, optional
+            Samples computed per call into the C library.
+        on_failure : {"raise", "return"}, optional
+            What a blow-up (NaN/Inf state) does: raise `IntegrationError` or return the finite
+            samples with ``completed=False``.
+        progress : bool, optional
+            A progress bar with ETA (tqdm.auto).
+
+        Returns
+        -------
+        Run
+
+        See Also
+        --------
+        fputlab.integrate : the same, with the details of every parameter.
+        """
         from .integrate import integrate
-        return integrate(self, t_end, **kwargs)
+        return integrate(self, t_end, method=method, dt=dt, rtol=rtol, atol=atol,
+                         sample_every=sample_every, times=times, y0=y0, deviations=deviations,
+                         t0=t0, store_states=store_states, stop_on=stop_on, chunk=chunk,
+                         on_failure=on_failure, progress=progress)
 
     def __reduce__(self):
         # Picklable for process pools: rebuilt from its parameters (v passed explicitly).

@@ -1,34 +1,122 @@
-"""Plots of runs (matplotlib, Agg-safe: nothing here opens a window)."""
+"""Plots of what fputlab computes (matplotlib; nothing here opens a window or picks a backend).
+
+Every function draws into `ax` (a new figure's Axes when None) and returns that Axes, so plots
+compose: ``ax = plot_mle(results); plot_mle(other, ax=ax, colors="k")``. The paper's figures
+(`fputlab.figures`, `fputlab.figures_reduction`) are made with these functions.
+
+=======================  ===================================================================
+function                 plots
+=======================  ===================================================================
+plot_mode_energies       E_k(t) of a run (Figs. 1b, 2b/d, 3)
+plot_envelope            top view of the oscillation envelope max|x_j| (Figs. 1a, 2a/c)
+plot_mle                 finite-time mLE lambda(t) with the 1/t guide of regular orbits (Figs. 11-13)
+plot_sali                SALI(t) with the chaos threshold (Figs. 11-13)
+plot_two_mode            Q_1, Q_2 of the two-mode system with the envelope equations (Fig. 6)
+plot_blowup_sweep        probability of blow-up versus tau, or the blow-up times
+plot_bifurcation         regions of the (A~, B~) plane by their equilibria, and the curves (Fig. 7)
+=======================  ===================================================================
+"""
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
 
-def _axes(ax):
+def _axes(ax, figsize=(6, 4)):
     if ax is not None:
         return ax
     import matplotlib.pyplot as plt
-    return plt.subplots(figsize=(6, 4))[1]
+    return plt.subplots(figsize=figsize, constrained_layout=True)[1]
 
 
-def plot_mode_energies(run, modes=(1, 2, 3, 4), ax=None, relative: bool = False):
-    """E_k(t) for the given modes (paper Figs. 1b, 2b/d, 3)."""
+def _as_list(results) -> list:
+    """One result (anything with a `t` attribute) or a sequence of them, as a list."""
+    if hasattr(results, "t"):
+        return [results]
+    if isinstance(results, dict) and "t" in results:
+        return [results]
+    out = list(results)
+    if not out:
+        raise ValueError("results: nothing to plot (empty sequence)")
+    return out
+
+
+def _get(result, name):
+    value = result[name] if isinstance(result, dict) else getattr(result, name)
+    return np.asarray(value, dtype=float)
+
+
+def _per_result(value, n: int, name: str) -> list:
+    """A single value (or None) for every result, or one value per result."""
+    if value is None or isinstance(value, str) or not isinstance(value, Sequence):
+        return [value] * n
+    value = list(value)
+    if len(value) != n:
+        raise ValueError(f"{name}: {len(value)} values for {n} results")
+    return value
+
+
+def plot_mode_energies(run, modes=(1, 2, 3, 4), ax=None, relative: bool = False, *,
+                       log: bool = False, legend: str | None = "best"):
+    """Normal-mode energies E_k(t) of a run (paper Figs. 1b, 2b/d, 3).
+
+    Parameters
+    ----------
+    run : Run
+        A result of `fputlab.integrate` (needs ``t``, ``mode_energies``, ``energy``).
+    modes : sequence of int, optional
+        Mode numbers k (1-based) to draw; default the first four.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    relative : bool, optional
+        Divide by the initial total energy E(0).
+    log : bool, optional
+        Logarithmic energy axis (useful for blow-ups, Fig. 3).
+    legend : str or None, optional
+        Legend location (matplotlib ``loc``; "best" avoids the curves), None for no legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
     ax = _axes(ax)
-    scale = run.energy[0] if relative else 1.0
+    N = run.mode_energies.shape[1]
     for k in modes:
-        ax.plot(run.t, run.mode_energies[:, k - 1] / scale, lw=0.9, label=f"$E_{k}$")
+        if not 1 <= int(k) <= N:
+            raise ValueError(f"modes: mode {k} is outside 1..{N}")
+    scale = run.energy[0] if relative else 1.0
+    draw = ax.semilogy if log else ax.plot
+    for k in modes:
+        draw(run.t, run.mode_energies[:, k - 1] / scale, lw=0.9, label=f"$E_{{{k}}}$")
     ax.set_xlabel("$t$")
     ax.set_ylabel("$E_k/E$" if relative else "$E_k$")
-    ax.legend(loc="upper right", frameon=False)
+    if legend is not None:
+        ax.legend(loc=legend, frameon=False)
     return ax
 
 
 def envelope(run, window: int) -> tuple[np.ndarray, np.ndarray]:
-    """Running maximum of |x_j| over blocks of `window` samples: (block mid-times, (B, N))."""
+    """Running maximum of ``|x_j|`` over blocks of samples.
+
+    Parameters
+    ----------
+    run : Run
+        A run integrated with ``store_states=True``.
+    window : int
+        Samples per block.
+
+    Returns
+    -------
+    t : numpy.ndarray
+        Mid-time of each block, shape (B,).
+    env : numpy.ndarray
+        max ``|x_j|`` over each block, shape (B, N).
+    """
     if run.states is None:
         raise ValueError("run has no states: integrate with store_states=True")
     N = run.lattice.N
-    x = np.abs(run.states[:, :N])
+    x = np.abs(run.states[:, :N] if run.states.ndim == 2 else run.states[:, 0, :N])
     B = x.shape[0] // window
     if B == 0:
         raise ValueError(f"window {window} is longer than the run ({x.shape[0]} samples)")
@@ -37,8 +125,24 @@ def envelope(run, window: int) -> tuple[np.ndarray, np.ndarray]:
     return t, env
 
 
-def plot_envelope(run, window: int, ax=None):
-    """Top view of the oscillation envelope of x_j(t) (paper Figs. 1a, 2a/c)."""
+def plot_envelope(run, window: int, ax=None, *, colorbar: bool = True):
+    """Top view of the oscillation envelope max|x_j| over time (paper Figs. 1a, 2a/c).
+
+    Parameters
+    ----------
+    run : Run
+        A run integrated with ``store_states=True``.
+    window : int
+        Samples per block over which the maximum is taken (see `envelope`).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    colorbar : bool, optional
+        Add a colour bar to the figure.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
     ax = _axes(ax)
     t, env = envelope(run, window)
     N = run.lattice.N
@@ -46,5 +150,285 @@ def plot_envelope(run, window: int, ax=None):
                    extent=(t[0], t[-1], 1, N), interpolation="nearest")
     ax.set_xlabel("$t$")
     ax.set_ylabel("$j$")
-    ax.figure.colorbar(im, ax=ax, label=r"max $|x_j|$")
+    if colorbar:
+        ax.figure.colorbar(im, ax=ax, label=r"max $|x_j|$")
+    return ax
+
+
+def plot_mle(results, ax=None, *, labels=None, colors=None, guide: bool = True,
+             lw: float = 0.8, alpha: float = 1.0, legend: str | None = "best"):
+    """Finite-time maximum Lyapunov exponent lambda(t) on log-log axes (paper Figs. 11-13).
+
+    Regular orbits follow lambda ~ 1/t (drawn as a dashed guide); chaotic ones level off at a
+    positive value. ``|lambda|`` is drawn, since a finite-time estimate can dip below zero.
+
+    Parameters
+    ----------
+    results : ChaosResult or sequence of ChaosResult
+        Anything with array attributes (or keys) ``t`` and ``mle``.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    labels : str or sequence of str, optional
+        Legend label for each result (one string: the first result only).
+    colors : colour or sequence of colours, optional
+        One colour for all results, or one per result (default: the colour cycle).
+    guide : bool, optional
+        Draw the 1/t guide over the time span of the results.
+    lw, alpha : float, optional
+        Line width and opacity of the curves.
+    legend : str or None, optional
+        Legend location when anything is labelled, None for no legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    items = _as_list(results)
+    ax = _axes(ax)
+    labels = _per_result(labels, len(items), "labels") if not isinstance(labels, str) \
+        else [labels] + [None] * (len(items) - 1)
+    colors = _per_result(colors, len(items), "colors")
+    t_lo, t_hi = np.inf, 0.0
+    for res, label, color in zip(items, labels, colors):
+        t, mle = _get(res, "t"), _get(res, "mle")
+        ax.loglog(t, np.abs(mle), lw=lw, alpha=alpha, color=color, label=label)
+        if t.size:
+            t_lo, t_hi = min(t_lo, t[t > 0].min(initial=np.inf)), max(t_hi, t.max())
+    if guide and np.isfinite(t_lo) and t_hi > t_lo:
+        tt = np.logspace(np.log10(t_lo), np.log10(t_hi), 50)
+        ax.loglog(tt, 1.0 / tt, "k--", lw=1.0, label="$1/t$")
+    ax.set_xlabel("$t$")
+    ax.set_ylabel(r"$\lambda(t)$")
+    if legend is not None and (guide or any(label for label in labels)):
+        ax.legend(loc=legend, frameon=False, fontsize=8)
+    return ax
+
+
+def plot_sali(results, ax=None, *, labels=None, colors=None, threshold: float | None = 1e-8,
+              lw: float = 0.8, alpha: float = 1.0, legend: str | None = "best"):
+    """SALI(t) on log-log axes (paper Figs. 11-13): bounded away from 0 for regular orbits, falling
+    exponentially to 0 for chaotic ones.
+
+    Parameters
+    ----------
+    results : ChaosResult or sequence of ChaosResult
+        Anything with array attributes (or keys) ``t`` and ``sali``.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    labels : str or sequence of str, optional
+        Legend label for each result.
+    colors : colour or sequence of colours, optional
+        One colour for all results, or one per result.
+    threshold : float or None, optional
+        Draw the chaos threshold (SALI below it: chaotic; default 1e-8), None for none.
+    lw, alpha : float, optional
+        Line width and opacity of the curves.
+    legend : str or None, optional
+        Legend location when anything is labelled, None for no legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    items = _as_list(results)
+    ax = _axes(ax)
+    labels = _per_result(labels, len(items), "labels") if not isinstance(labels, str) \
+        else [labels] + [None] * (len(items) - 1)
+    colors = _per_result(colors, len(items), "colors")
+    for res, label, color in zip(items, labels, colors):
+        ax.loglog(_get(res, "t"), _get(res, "sali"), lw=lw, alpha=alpha, color=color, label=label)
+    if threshold is not None:
+        ax.axhline(threshold, color="gray", lw=0.6, ls=":")
+    ax.set_xlabel("$t$")
+    ax.set_ylabel("SALI")
+    if legend is not None and any(label for label in labels):
+        ax.legend(loc=legend, frameon=False, fontsize=8)
+    return ax
+
+
+def plot_two_mode(run, env=None, eps: float | None = None, ax=None, *, legend: str | None = "upper right"):
+    """Q_1(t), Q_2(t) of the two-mode system, with the envelopes ±2|q_j| from the envelope
+    equations (paper Fig. 6).
+
+    Parameters
+    ----------
+    run : ModalRun
+        A result of `fputlab.reduction.two_mode_run` (``t``, ``Q``).
+    env : EnvelopeRun, optional
+        A result of `fputlab.reduction.envelope_run`, in the slow time T = eps t.
+    eps : float, optional
+        The detuning ω₂ − 2ω₁ that maps t to T (required with `env`).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    legend : str or None, optional
+        Legend location, None for no legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    ax.plot(run.t, run.Q[:, 0], color="C0", lw=0.3, label="$Q_1$")
+    ax.plot(run.t, run.Q[:, 1], color="C3", lw=0.3, label="$Q_2$")
+    if env is not None:
+        if eps is None:
+            raise ValueError("eps: the detuning is needed to draw the envelopes")
+        tt = np.linspace(run.t[0], run.t[-1], 2000)
+        amp = 2.0 * np.abs(env.at(eps * tt))
+        for j in range(2):
+            ax.plot(tt, amp[:, j], "k", lw=1.0, label=r"$\pm 2|q_j|$" if j == 0 else None)
+            ax.plot(tt, -amp[:, j], "k", lw=1.0)
+    ax.set_xlabel("$t$")
+    ax.set_ylabel("$Q_1$, $Q_2$")
+    if legend is not None:
+        leg = ax.legend(loc=legend, fontsize=8, ncol=3, framealpha=0.9)
+        for line in leg.get_lines():
+            line.set_linewidth(2.0)
+    return ax
+
+
+def plot_blowup_sweep(sweep: dict, ax=None, *, kind: str = "probability",
+                      prediction: bool = True, legend: str | None = "best"):
+    """A blow-up sweep (`fputlab.blowup.blowup_sweep`).
+
+    Parameters
+    ----------
+    sweep : dict
+        The sweep: ``tau``, ``N``, ``probability`` (len(tau) x len(N)), ``records``
+        (tau, N, seed, blew_up, time, tau_c), ``t_max``.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    kind : {"probability", "times"}, optional
+        "probability": P(blow-up before t_max) versus tau, one curve per N; "times": histogram
+        of the blow-up times.
+    prediction : bool, optional
+        With kind="probability", also the share of realisations whose own two-mode tau_c is
+        below tau (the reduction's prediction).
+    legend : str or None, optional
+        Legend location, None for no legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if kind not in ("probability", "times"):
+        raise ValueError(f"kind must be 'probability' or 'times', got {kind!r}")
+    ax = _axes(ax)
+    recs = sweep["records"]
+    if kind == "times":
+        times = [r[4] for r in recs if r[3]]
+        if times:
+            ax.hist(times, bins=min(30, max(5, len(times) // 3)), color="C3", alpha=0.8)
+        ax.set_xlabel("blow-up time")
+        ax.set_ylabel("realisations")
+        ax.set_title(f"{len(times)} of {len(recs)} runs blew up")
+        return ax
+    prob = np.asarray(sweep["probability"], dtype=float).reshape(len(sweep["tau"]), -1)
+    for j, N in enumerate(sweep["N"]):
+        line, = ax.plot(sweep["tau"], prob[:, j], "o-", label=f"N = {N}: blew up")
+        if prediction:
+            pred = [np.mean([r[0] > r[5] for r in recs if r[0] == tau and r[1] == N])
+                    for tau in sweep["tau"]]
+            ax.plot(sweep["tau"], pred, "s--", alpha=0.7, color=line.get_color(),
+                    label=f"N = {N}: τ > own $\\tau_c$ (two-mode)")
+    ax.set_xlabel("τ (%)")
+    ax.set_ylabel(f"P(blow-up before t = {sweep['t_max']:g})")
+    ax.set_ylim(-0.05, 1.05)
+    if legend is not None:
+        ax.legend(loc=legend, frameon=False, fontsize=8)
+    return ax
+
+
+#: region colours and descriptions of `plot_bifurcation` (codes of fputlab.reduction.classify)
+BIFURCATION_REGIONS = {
+    0: ("#ffffff", r"no equilibria: $1+12\tilde A\tilde B r_1^2<0$"),
+    1: ("#b7d7f0", r"$\Delta_1$, $\Delta_2$ well defined, both centres"),
+    2: ("#f5c9a8", r"$\Delta_1$ centre, $\Delta_2$ saddle, both well defined"),
+    3: ("#d9ecc4", r"only $\Delta_1$ well defined"),
+    4: ("#e0e0e0", "neither well defined"),
+}
+
+
+def plot_bifurcation_curves(ax, A_range, r1sq: float):
+    """The curves 1 + 12 A~B~r₁² = 0 (blue: solid above A~ + B~ = 0, dashed below),
+    1 − 4 A~B~r₁² = 0 (red) and A~ + B~ = 0 (black dashed) over A~ in `A_range`.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    A_range : (float, float)
+        Range of A~.
+    r1sq : float
+        r₁² of the initial state ((N+1)/8 for the paper's).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from .reduction import bifurcation_curves
+    A = np.linspace(A_range[0], A_range[1], 4001)
+    # a NaN at A~ = 0 keeps the hyperbolas' two branches apart
+    A = np.concatenate([A[A < -1e-9], [np.nan], A[A > 1e-9]])
+    cv = bifurcation_curves(A, r1sq)
+    above = cv["blue"] > -A      # above the line A~ + B~ = 0: solid, below: dashed
+    for mask, ls in ((above, "-"), (~above, "--")):
+        ax.plot(np.where(mask, A, np.nan), np.where(mask, cv["blue"], np.nan), color="b", ls=ls,
+                lw=1.3)
+    ax.plot(A, cv["red"], color="r", lw=1.3)
+    ax.plot(A, cv["black"], "k--", lw=1.0)
+    return ax
+
+
+def plot_bifurcation(ax=None, *, N: int = 64, r1sq: float | None = None,
+                     extent=(-1.0, 1.0, -1.0, 1.0), n: int = 401, legend: str | None = "lower left"):
+    """Bifurcation diagram of the reduced two-mode system in the (A~, B~) plane (paper Fig. 7):
+    regions by the equilibria present in the well-defined region and their type, and the curves
+    where they change (`plot_bifurcation_curves`).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    N : int, optional
+        Lattice size; sets r₁² = (N+1)/8 of the paper's initial state unless `r1sq` is given.
+    r1sq : float, optional
+        r₁² of the initial state.
+    extent : (float, float, float, float), optional
+        (A~ min, A~ max, B~ min, B~ max).
+    n : int, optional
+        Grid points per axis.
+    legend : str or None, optional
+        Legend location for the regions and curves, None for no legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from .reduction import classify, r1_squared
+    ax = _axes(ax, figsize=(6.5, 5.4))
+    r1sq = r1_squared(N) if r1sq is None else float(r1sq)
+    A, B = np.meshgrid(np.linspace(extent[0], extent[1], n), np.linspace(extent[2], extent[3], n))
+    code = classify(A, B, r1sq)
+    colours = [BIFURCATION_REGIONS[k][0] for k in range(5)]
+    ax.imshow(code, origin="lower", extent=extent, aspect="auto", cmap=ListedColormap(colours),
+              vmin=-0.5, vmax=4.5, interpolation="nearest")
+    plot_bifurcation_curves(ax, extent[:2], r1sq)
+    ax.axhline(0, color="0.4", lw=0.5)
+    ax.axvline(0, color="0.4", lw=0.5)
+    ax.set_xlim(extent[:2])
+    ax.set_ylim(extent[2:])
+    ax.set_xlabel(r"$\tilde A$")
+    ax.set_ylabel(r"$\tilde B$")
+    if legend is not None:
+        handles = [Patch(facecolor=c, edgecolor="0.5", label=text)
+                   for c, text in BIFURCATION_REGIONS.values()]
+        handles += [Line2D([], [], color="b", label=r"$1+12\tilde A\tilde B r_1^2=0$"),
+                    Line2D([], [], color="r", label=r"$1-4\tilde A\tilde B r_1^2=0$"),
+                    Line2D([], [], color="k", ls="--", label=r"$\tilde A+\tilde B=0$")]
+        ax.legend(handles=handles, fontsize=7.5, loc=legend, framealpha=0.9)
     return ax

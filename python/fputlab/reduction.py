@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._display import ResultMixin
 from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
@@ -51,7 +52,7 @@ def detuning(N: int) -> float:
 
 
 def r1_squared(N: int) -> float:
-    """r_1^2 = |q_1(0)|^2 = (Q_1(0)/2)^2 = (N+1)/8 for the paper's initial state (Eq. initxi)."""
+    """``r_1^2 = |q_1(0)|^2 = (Q_1(0)/2)^2 = (N+1)/8`` for the paper's initial state (Eq. initxi)."""
     return (_int(N, "N") + 1) / 8.0
 
 
@@ -166,10 +167,28 @@ def two_mode_coefficients(N=64, alpha: float = 0.25, v=None, *,
                           model="nonlinear") -> TwoModeCoefficients:
     """Two-mode coefficients of a chain, by projection (closed sums over the bonds, in C).
 
-    `N` may also be a `Lattice`, whose N, alpha, model and v are used. v = None means v_j = 1.
     Models 2 and 3 share the quadratic part; beta does not enter (Eq. msvar has no cubic terms).
     Eq. (msvar) assumes a diagonal linear part, which holds for models 1 and 3 only: for model 2
-    these are the quadratic coefficients of the projected acceleration (see reduction.h)."""
+    these are the quadratic coefficients of the projected acceleration (see reduction.h).
+
+    Parameters
+    ----------
+    N : int or Lattice, optional
+        Lattice size, or a `Lattice` whose N, alpha, model and v are used.
+    alpha : float, optional
+        Cubic coupling.
+    v : array_like, optional
+        Variability v_j, length N (None: v_j = 1).
+    model : str or int, optional
+        Lattice model (default "nonlinear").
+
+    Returns
+    -------
+    TwoModeCoefficients
+        Raw coefficients ``a``, ``b`` (alpha included) and the paper-normalised ``A``, ``B``,
+        ``A_tilde``, ``B_tilde`` (see docs/conventions.md). At N = 64, alpha = 0.25, v = 1:
+        A~ = 3.62805, B~ = 0.90728.
+    """
     if isinstance(N, Lattice):
         lat = N
         N, alpha, code, v = lat.N, lat.alpha, lat.model_code, lat.v
@@ -198,10 +217,11 @@ def quadratic_forms(N: int, alpha: float = 0.25) -> tuple[np.ndarray, np.ndarray
     return diag, off
 
 
-@dataclass
-class CoefficientMoments:
+@dataclass(repr=False)
+class CoefficientMoments(ResultMixin):
     """Exact moments over the disorder at each tau: raw `mean` (T, 6), `cov` (T, 6, 6), and those
     of A~, B~ (linear in a_3, b_1)."""
+    _time_field = "tau"   # the sampled axis (short repr, to_xarray)
     tau: np.ndarray
     kind: str
     N: int
@@ -252,8 +272,8 @@ def coefficient_moments(tau, N: int = 64, alpha: float = 0.25, *, kind: str = "g
 
 # ---- realisations ----------------------------------------------------------------------------
 
-@dataclass
-class RealisationQuadratics:
+@dataclass(repr=False)
+class RealisationQuadratics(ResultMixin):
     """Each realisation's coefficients as exact quadratics in tau, value = c0 + c1 tau + c2 tau^2.
 
     `raw` has shape (R, 6, 3) ([c0, c1, c2] per coefficient); A_tilde and B_tilde (R, 3)."""
@@ -316,10 +336,11 @@ def realisation_quadratics(N: int = 64, alpha: float = 0.25, R: int = 100, *, se
     return RealisationQuadratics(N, kind, seeds, z, raw)
 
 
-@dataclass
-class EnsembleStatistics:
+@dataclass(repr=False)
+class EnsembleStatistics(ResultMixin):
     """A~, B~ over R realisations at each tau: sample mean and standard deviation (ddof = 1),
     computed directly (one C projection per realisation and tau), as the paper did."""
+    _time_field = "tau"   # the sampled axis (short repr, to_xarray)
     tau: np.ndarray
     A_tilde: np.ndarray   # (R, T)
     B_tilde: np.ndarray   # (R, T)
@@ -382,8 +403,8 @@ def _smallest_positive_root(p) -> float:
     return float(real.min()) if real.size else float("nan")
 
 
-@dataclass
-class CriticalTolerance:
+@dataclass(repr=False)
+class CriticalTolerance(ResultMixin):
     """tau_c (B~ = 0) three ways: `exact` from the closed-form expectation E[B~](tau) (exactly
     quadratic, no sampling), `fit` from a quadratic fit of the R-realisation mean (the paper:
     10.0749), and `per_realisation` (each realisation's own root; NaN where B~ has none)."""
@@ -411,8 +432,30 @@ class CriticalTolerance:
 
 def critical_tolerance(N: int = 64, alpha: float = 0.25, R: int = 100, *, seed0: int = 1,
                        kind: str = "gaussian", tau=None) -> CriticalTolerance:
-    """tau_c three ways (see CriticalTolerance). `tau` is the grid of the fit (default 0..20 %
-    in steps of 0.5)."""
+    """The critical tolerance tau_c (where B~ changes sign) three ways.
+
+    Parameters
+    ----------
+    N : int, optional
+        Lattice size.
+    alpha : float, optional
+        Cubic coupling.
+    R : int, optional
+        Number of realisations for the fit and the per-realisation roots.
+    seed0 : int, optional
+        Seed of the first realisation (seeds seed0 .. seed0 + R - 1).
+    kind : {"gaussian", "truncated", "uniform"}, optional
+        Distribution of the disorder draws.
+    tau : array_like, optional
+        Grid of the quadratic fit, percent (default 0..20 in steps of 0.5).
+
+    Returns
+    -------
+    CriticalTolerance
+        ``exact`` (root of the exact Gaussian expectation of B~, no sampling), ``fit`` (root of a
+        quadratic fit of the R-realisation mean, the paper's method; paper: 10.0749 %) and
+        ``per_realisation`` (each realisation's own root).
+    """
     taus = np.linspace(0.0, 20.0, 41) if tau is None else as_float_array(tau, "tau")
     ens = ensemble_statistics(taus, N, alpha, R, seed0=seed0, kind=kind)
     fit_A, sse_A = quadratic_fit(taus, ens.A_mean)
@@ -429,8 +472,8 @@ def critical_tolerance(N: int = 64, alpha: float = 0.25, R: int = 100, *, seed0:
 
 # ---- the two-mode ODE (Eq. msvar) and the Galerkin truncation --------------------------------
 
-@dataclass
-class ModalRun:
+@dataclass(repr=False)
+class ModalRun(ResultMixin):
     """Samples of a truncated system: Q, P = Q' (S, M) at t (S,), E_k = (P_k^2 + omega_k^2 Q_k^2)/2."""
     t: np.ndarray
     Q: np.ndarray
@@ -490,11 +533,38 @@ def two_mode_run(coefficients: TwoModeCoefficients, t_end: float, *, dt: float =
                  sample_every: float | None = None, times=None, Q0=None, P0=None, omega=None,
                  method: str = "yoshida4", t0: float = 0.0,
                  on_failure: str = "raise") -> ModalRun:
-    """Integrate Eq. (msvar) with the raw coefficients (in C, fixed step `dt` of `method`).
+    """Integrate the two-mode system, Eq. (msvar), with the raw coefficients (in C).
 
-    Default state: Q_1(0) = sqrt((N+1)/2), Q_2 = P = 0 (Eq. initxi). `omega` overrides
-    (omega_1, omega_2), e.g. to vary the detuning. A blow-up raises IntegrationError (its `.result`
-    holds the finite samples) or, with on_failure="return", returns them with completed=False."""
+    Parameters
+    ----------
+    coefficients : TwoModeCoefficients
+        From `two_mode_coefficients`.
+    t_end : float
+        Final time.
+    dt : float, optional
+        Fixed step of `method`.
+    sample_every : float, optional
+        Sampling interval (exclusive with `times`).
+    times : array_like, optional
+        Explicit increasing sample times.
+    Q0, P0 : array_like, optional
+        Initial (Q_1, Q_2) and (P_1, P_2); default Q_1(0) = sqrt((N+1)/2), Q_2 = P = 0
+        (Eq. initxi).
+    omega : array_like, optional
+        (omega_1, omega_2) instead of the chain's, e.g. to vary the detuning.
+    method : str, optional
+        Splitting scheme.
+    t0 : float, optional
+        Initial time.
+    on_failure : {"raise", "return"}, optional
+        A blow-up raises `IntegrationError` (its ``.result`` holds the finite samples) or
+        returns them with ``completed=False``.
+
+    Returns
+    -------
+    ModalRun
+        ``t``, ``Q``, ``P`` (and ``mode_energies``).
+    """
     if not isinstance(coefficients, TwoModeCoefficients):
         raise TypeError("coefficients must be a TwoModeCoefficients")
     t0, dt, ts = _run_args(t_end, dt, t0, sample_every, times, on_failure)
@@ -578,9 +648,10 @@ def envelope_rhs(q: np.ndarray, A_tilde: float, B_tilde: float) -> np.ndarray:
                     axis=-1)
 
 
-@dataclass
-class EnvelopeRun:
+@dataclass(repr=False)
+class EnvelopeRun(ResultMixin):
     """q_1, q_2 (complex, (K, 2)) of Eq. (msfinal2) on a uniform slow-time grid T (K,)."""
+    _time_field = "T"   # the sampled axis (short repr, to_xarray)
     T: np.ndarray
     q: np.ndarray
     A_tilde: float
@@ -617,11 +688,31 @@ class EnvelopeRun:
 
 def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: int = 64,
                  dT: float = 1e-3, P_max: float | None = None) -> EnvelopeRun:
-    """Integrate Eq. (msfinal2) from T = 0 to T_end (either sign; physical time t = T/eps, and
-    eps < 0, so forward physical time is negative T) with fixed-step RK4 of step |dT|.
+    """Integrate the envelope equations, Eq. (msfinal2), in the slow time T = eps t with
+    fixed-step RK4.
 
-    q0 defaults to (Q_1(0)/2, 0) = (sqrt((N+1)/8), 0) (Eqs. ic-q1, ic-q2). With P_max the run stops
-    (completed=False) once |q_1|^2 + |q_2|^2 exceeds it (the unbounded case B~ < 0)."""
+    Parameters
+    ----------
+    A_tilde, B_tilde : float
+        The paper-normalised coefficients.
+    T_end : float
+        Final slow time, either sign (eps < 0, so forward physical time is negative T).
+    q0 : array_like, optional
+        Initial complex (q_1, q_2); default (Q_1(0)/2, 0) = (sqrt((N+1)/8), 0)
+        (Eqs. ic-q1, ic-q2).
+    N : int, optional
+        Lattice size (for the default q0).
+    dT : float, optional
+        Step size ``|dT|`` (> 0).
+    P_max : float, optional
+        Stop (``completed=False``) once ``|q_1|^2 + |q_2|^2`` exceeds it (the unbounded case
+        B~ < 0).
+
+    Returns
+    -------
+    EnvelopeRun
+        ``T``, ``q`` (complex, shape (S, 2)); ``at(T)`` interpolates.
+    """
     A, B = _finite_real(A_tilde, "A_tilde"), _finite_real(B_tilde, "B_tilde")
     T_end, dT = _finite_real(T_end, "T_end"), _finite_real(dT, "dT")
     if dT <= 0:
@@ -658,7 +749,7 @@ def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: in
 
 
 def envelope_error(two_mode: ModalRun, envelope: EnvelopeRun, eps: float) -> np.ndarray:
-    """max over the samples of |Q_j - Q_j^env| for j = 1, 2 (Q^env from `reconstruct`)."""
+    """max over the samples of ``|Q_j - Q_j^env|`` for j = 1, 2 (Q^env from `reconstruct`)."""
     Qe = envelope.reconstruct(two_mode.t, two_mode.omega, eps)
     return np.abs(two_mode.Q - Qe).max(axis=0)
 

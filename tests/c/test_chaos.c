@@ -76,8 +76,12 @@ static void test_chaotic_orbit(void)
     /* early termination: chaotic orbits stop paying for the full time */
     opt.stop_when_chaotic = 1;
     CHECK_OK(fpl_chaos_run(lat, "yoshida4", NULL, 0.0, y0, NULL, &opt, NULL, NULL, NULL, NULL, &r2));
-    CHECK(r2.chaotic && r2.t_final < opt.t_end && r2.t_final == r2.t_chaotic,
+    /* confirmed (and stopped) one renormalisation after SALI fell below the threshold */
+    CHECK(r2.chaotic && r2.t_final < opt.t_end && r2.t_final == r2.t_chaotic + opt.renorm_interval,
           "stopped at %g (chaotic at %g)", r2.t_final, r2.t_chaotic);
+    int cls = -1;
+    CHECK_OK(fpl_chaos_classify(&r2, NULL, NULL, 0, NAN, &cls));
+    CHECK(cls == FPL_ORBIT_CHAOTIC && !r2.blew_up, "class %d", cls);
     fpl_lattice_free(&lat);
 }
 
@@ -105,8 +109,40 @@ static void test_bad_input(void)
     fpl_lattice_free(&lat);
 }
 
+/* tau = 20 % > tau_c (paper Fig. 3): the orbit escapes over the cubic barrier near t ~ 2.5e3.
+ * Its deviation vectors align with the runaway just before the overflow; that is a blow-up,
+ * never chaos, whether the barrier check or only the non-finite state catches it. */
+static void test_blowup_is_not_chaos(void)
+{
+    enum { N = 64 };
+    double v[N], y0[2 * N], t[100], mle[100];
+    CHECK_OK(fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, 20.0, 1, N, v));
+    fpl_lattice *lat = NULL;
+    CHECK_OK(fpl_lattice_create(N, 0.25, 0.0, FPL_MODEL_NONLINEAR, v, &lat));
+    CHECK_OK(fpl_modes_initial_state(lat, 1, 1.0, y0));  /* the paper's x_j = sin(pi j/(N+1)) */
+    for (int pass = 0; pass < 2; pass++) {
+        fpl_chaos_options opt;
+        fpl_chaos_options_init(&opt);
+        opt.t_end = 1e4;
+        opt.n_samples = 100;
+        opt.blowup_stretch = pass == 0 ? 0.0 : -1.0;    /* automatic barrier 4 / off */
+        fpl_chaos_result r;
+        int st = fpl_chaos_run(lat, "yoshida4", NULL, 0.0, y0, NULL, &opt, t, mle, NULL, NULL, &r);
+        CHECK(st == FPL_EVENT && strstr(fpl_last_error(), "blow-up"), "status %d: %s", st,
+              fpl_last_error());
+        CHECK(r.blew_up && !r.chaotic && r.t_blowup > 1e3 && r.t_blowup < 1e4 && !r.completed,
+              "pass %d: blew_up %d at %g, chaotic %d at %g", pass, r.blew_up, r.t_blowup,
+              r.chaotic, r.t_chaotic);
+        int cls = -1;
+        CHECK_OK(fpl_chaos_classify(&r, t, mle, r.n_samples, NAN, &cls));
+        CHECK(cls == FPL_ORBIT_BLOWUP, "pass %d: class %s", pass, fpl_orbit_class_name(cls));
+    }
+    fpl_lattice_free(&lat);
+}
+
 int main(void)
 {
+    test_blowup_is_not_chaos();
     test_indices();
     test_harmonic_chain();
     test_chaotic_orbit();

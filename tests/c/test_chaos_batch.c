@@ -282,7 +282,11 @@ static void test_blowup(void)
     fpl_chaos_batch_options_init(&bo);
     bo.t_end = 3000.0;
     bo.n_samples = NS;
-    for (int with_event = 0; with_event < 2; with_event++) {
+    /* variant 0: the default stretch check at renormalisations (1/alpha); 1: no check, only the
+     * non-finite state; 2: the bond-stretch criterion as a lattice event */
+    for (int variant = 0; variant < 3; variant++) {
+        const int with_event = variant == 2;
+        bo.blowup_stretch = variant == 1 ? -1.0 : 0.0;
         if (with_event) {
             fpl_event_set ev = {1, {FPL_EVENT_MAX_STRETCH}, {4.0}, {0}};
             for (int r = 0; r < 3; r++) CHECK_OK(fpl_lattice_set_events(l[r], &ev));
@@ -298,8 +302,26 @@ static void test_blowup(void)
             CHECK(r.blew_up && !r.chaotic && isnan(r.t_chaotic) && r.done,
                   "tau 20 lane: blew_up %d chaotic %d (t_chaotic %g), events %d, stop %d",
                   r.blew_up, r.chaotic, r.t_chaotic, with_event, stop);
-            CHECK(r.blowup_reason == (with_event ? FPL_BATCH_BLOWUP_EVENT : FPL_BATCH_BLOWUP_NONFINITE),
-                  "reason %d", r.blowup_reason);
+            const int want = variant == 0 ? FPL_BATCH_BLOWUP_STRETCH
+                           : variant == 1 ? FPL_BATCH_BLOWUP_NONFINITE : FPL_BATCH_BLOWUP_EVENT;
+            CHECK(r.blowup_reason == want, "variant %d: reason %d", variant, r.blowup_reason);
+            {
+                /* the single-orbit path ends the same orbit the same way at the same time */
+                fpl_chaos_options so;
+                fpl_chaos_options_init(&so);
+                so.t_end = bo.t_end;
+                so.n_samples = NS;
+                so.stop_when_chaotic = stop;
+                so.blowup_stretch = bo.blowup_stretch;
+                fpl_chaos_result sr;
+                int st = fpl_chaos_run(l[1], "yoshida4", NULL, 0.0, y0 + 128, NULL, &so, NULL, NULL,
+                                       NULL, NULL, &sr);
+                CHECK(st == FPL_EVENT && sr.blew_up && !sr.chaotic && sr.t_blowup == r.t_blowup &&
+                          sr.t_final == r.t_final,
+                      "variant %d: single-orbit run status %d blew_up %d t_blowup %.10g (batch %.10g) "
+                      "t_final %g (batch %g)", variant, st, sr.blew_up, sr.t_blowup, r.t_blowup,
+                      sr.t_final, r.t_final);
+            }
             CHECK(r.t_blowup > 2000.0 && r.t_blowup < 2600.0 && r.t_final <= r.t_blowup,
                   "t_blowup %g, t_final %g", r.t_blowup, r.t_final);
             if (with_event) {
@@ -316,13 +338,13 @@ static void test_blowup(void)
                 CHECK(strstr(fpl_chaos_batch_message(b, 1), "x_{j+1} - x_j") != NULL, "message '%s'",
                       fpl_chaos_batch_message(b, 1));
             }
-            if (!with_event && !stop)
+            if (!stop)
                 printf("tau = 20 %% lane: %s (t_blowup %g)\n", fpl_chaos_batch_message(b, 1), r.t_blowup);
             for (int o = 0; o < 3; o += 2) {
                 fpl_chaos_batch_result ro;
                 CHECK_OK(fpl_chaos_batch_get_result(b, o, &ro));
                 CHECK(!ro.blew_up && ro.t_final == bo.t_end, "lane %d: blew_up %d", o, ro.blew_up);
-                if (with_event || stop) continue; /* the comparison once is enough */
+                if (variant || stop) continue; /* the comparison once is enough */
                 /* unaffected: the same as a single-orbit run */
                 fpl_chaos_options so;
                 fpl_chaos_options_init(&so);

@@ -24,7 +24,8 @@ def test_chaotic_orbit_and_early_stop():
     assert res.mle[-1] > 0.05
     assert np.all(np.diff(res.t) > 0) and res.t[-1] == 3e3
     stopped = chaos.lyapunov(lat, 3e3, y0=y0, stop_when_chaotic=True)
-    assert stopped.t_final == stopped.t_chaotic < 3e3
+    # chaos is confirmed one renormalisation after SALI first fell below the threshold
+    assert stopped.t_final == stopped.t_chaotic + 1.0 < 3e3 and stopped.completed
     w0 = np.eye(16)[:3]
     three = chaos.lyapunov(lat, 100.0, y0=y0, w0=w0, n_dev=3)
     assert np.all((three.gali >= 0) & (three.gali <= 1.0 + 1e-12))
@@ -72,10 +73,10 @@ def test_tangent_map_and_variational_equations_agree():
 
 
 def test_chaotic_fraction_percent_is_the_share_of_chaotic_records():
-    # N = 4, tau = 20 %, mode-1 amplitude 3: a mix of regular, undecided, chaotic and blown-up
-    # orbits over 12 realisations. The percentage must be 100 x (chaotic records) / R, the
-    # records judged here from their own SALI samples (with stop_when_chaotic the last sample is
-    # taken when SALI crosses the threshold), and the blow-ups the runs that did not complete.
+    # N = 4, tau = 20 %, mode-1 amplitude 3: a mix of regular, undecided and blown-up orbits over
+    # 12 realisations (the escapes used to be reported as chaotic: their deviation vectors align
+    # with the runaway). The percentages are 100 x (records of that class) / R, each record's
+    # class following from its own flags: blow-up = stopped at the barrier before t_end.
     N, R, T = 4, 12, 3000.0
     y0 = Lattice(N).mode_state(1, 3.0)
     out = chaos.chaotic_fraction(Ns=(N,), realisations=R, tau=20.0, t_end=T, workers=2,
@@ -83,23 +84,25 @@ def test_chaotic_fraction_percent_is_the_share_of_chaotic_records():
     recs = out["results"][N]
     assert [r.params["seed"] for r in recs] == list(range(1, R + 1))
     assert all(r.params["tau"] == 20.0 and r.params["model"] == "nonlinear" for r in recs)
-    chaotic = [r.sali.size > 0 and np.nanmin(r.sali) < 1e-8 for r in recs]
-    blown = [not r.completed and not c for r, c in zip(recs, chaotic)]
-    assert 2 <= sum(chaotic) <= R - 2 and sum(blown) >= 1        # a real mix
-    assert out["percent"] == [pytest.approx(100.0 * sum(chaotic) / R, abs=1e-12)]
-    assert out["blowups"] == [sum(blown)]
-    for r, c in zip(recs, chaotic):
-        if c:       # stopped where SALI first fell below 1e-8
-            assert r.t[-1] == r.t_chaotic == r.t_final < T and r.sali[-1] < 1e-8
-            assert np.all(r.sali[:-1] >= 1e-8)
-        elif r.completed:
-            assert r.t_final == T and np.isnan(r.t_chaotic)
+    classes = [r.classify() for r in recs]
+    assert classes.count("blow-up") >= 2 and classes.count("regular") >= 2    # a real mix
+    assert out["percent"] == [pytest.approx(100.0 * classes.count("chaotic") / R, abs=1e-12)]
+    assert out["blowups"] == [classes.count("blow-up")]
+    for r, c in zip(recs, classes):
+        if c == "blow-up":   # ended at the barrier, never flagged chaotic, samples kept
+            assert r.blew_up and not r.chaotic and r.t_final < r.t_blowup < T
+            assert np.all(np.isfinite(r.mle)) and r.t[-1] <= r.t_blowup
+        else:
+            assert r.completed and r.t_final == T and not r.blew_up
     # a record is the same orbit as a serial run of that realisation
-    k = int(np.argmax(chaotic))
+    k = classes.index("blow-up")
     lat = Lattice(N, 0.25, "nonlinear", tau=20.0, seed=k + 1)
-    direct = chaos.lyapunov(lat, T, y0=y0, n_samples=20, stop_when_chaotic=True)
+    # ensembles default to the validated fast scheme and early stop
+    assert recs[k].method == chaos.ENSEMBLE_METHOD and recs[k].params["dt"] == chaos.ENSEMBLE_DT
+    direct = chaos.lyapunov(lat, T, y0=y0, n_samples=20, stop_when_chaotic=True,
+                            method=chaos.ENSEMBLE_METHOD, dt=chaos.ENSEMBLE_DT)
     np.testing.assert_array_equal(direct.mle, recs[k].mle)
-    assert direct.t_chaotic == recs[k].t_chaotic
+    assert direct.t_blowup == recs[k].t_blowup
 
 
 CHAOS_MODELS = {
@@ -138,3 +141,68 @@ def test_tangent_map_and_variational_equations_agree_every_model(model, method, 
     assert np.abs(split.mle - var.mle).max() < 1e-4 * var.mle_final
     assert np.abs(np.log(split.sali / var.sali)).max() < 1e-3
     assert np.abs(np.log(split.gali / var.gali)).max() < 1e-3
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+@pytest.mark.parametrize("blowup_stretch", [None, -1.0])
+def test_blowup_is_never_chaos(seed, blowup_stretch):
+    # tau = 20 % > tau_c: these orbits escape over the cubic barrier near t ~ 2e3 (paper Fig. 3).
+    # Just before the overflow the runaway direction aligns the deviation vectors (SALI < 1e-8 at
+    # the last finite renormalisation), which used to be reported as chaos. With the barrier
+    # check (default) or only the non-finite state (-1: check off), the class is blow-up.
+    lat = Lattice(64, 0.25, "nonlinear", tau=20.0, seed=seed)
+    res = chaos.lyapunov(lat, 1e4, blowup_stretch=blowup_stretch)
+    assert res.blew_up and not res.chaotic and np.isnan(res.t_chaotic)
+    assert res.classify() == "blow-up"
+    assert 1e3 < res.t_blowup < 1e4 and not res.completed
+    assert "blow-up" in res.message and f"{res.t_blowup:g}" in res.message
+    # before the blow-up the orbit was regular-looking, after it it is blow-up: dated classes
+    assert res.classify(t_eval=res.t_blowup - 1) in ("regular", "undecided")
+    # the sweep record and the chaotic fraction agree
+    out = chaos.chaotic_fraction(Ns=(64,), realisations=1, tau=20.0, t_end=1e4,
+                                 first_seed=seed, workers=1, blowup_stretch=blowup_stretch,
+                                 method="yoshida4", dt=0.01)
+    assert out["percent"] == [0.0] and out["blowups"] == [1]
+
+
+@pytest.mark.parametrize("method,dt", [("yoshida4", 0.01), ("srkn14a6", 0.1)])
+def test_known_chaotic_orbit_two_integrators(method, dt):
+    # homogeneous N = 8 with mode 1 at 4x the paper's amplitude: chaotic near t ~ 4e4 (two
+    # integrators of different order and step agree on the class and roughly on the time)
+    lat = Lattice(8, 0.25)
+    res = chaos.lyapunov(lat, 8e4, y0=4 * lat.mode_state(), method=method, dt=dt,
+                         stop_when_chaotic=True, n_samples=60)
+    assert res.classify() == "chaotic" and not res.blew_up
+    assert 2e4 < res.t_chaotic < 7e4
+    assert res.classify(t_eval=1e3) == "regular"      # the class is dated
+
+
+def test_classes_are_exactly_four_and_dated():
+    t = np.logspace(0, 4, 41)
+    regular = dict(chaotic=False, t_chaotic=np.nan, blew_up=False, t_blowup=np.nan, t_final=1e4)
+    # lambda = 2/t: ln||w|| constant, the 1/t law of regular orbits
+    assert chaos.classify_orbit(t, 2.0 / t, **regular) == "regular"
+    # lambda = 0.01 for all t: lambda t grows linearly, not regular, yet SALI never fell
+    assert chaos.classify_orbit(t, np.full_like(t, 0.01), **regular) == "undecided"
+    # blow-up wins over a later chaos flag and vice versa: whichever came first
+    both = dict(regular, blew_up=True, t_blowup=500.0, t_final=499.0)
+    assert chaos.classify_orbit(t[t < 500], 2.0 / t[t < 500], **both) == "blow-up"
+    assert chaos.classify_orbit(t[t < 500], 2.0 / t[t < 500], **both, t_eval=100.0) == "regular"
+    ch = dict(regular, chaotic=True, t_chaotic=2e3)
+    assert chaos.classify_orbit(t, 2.0 / t, **ch) == "chaotic"
+    assert chaos.classify_orbit(t, 2.0 / t, **ch, t_eval=1e3) == "regular"
+    # a run that has not reached t_eval is not yet regular
+    assert chaos.classify_orbit(t[t <= 1e3], 2.0 / t[t <= 1e3], **dict(regular, t_final=1e3),
+                                t_eval=1e4) == "undecided"
+    assert set(chaos.CLASSES) == {"chaotic", "regular", "blow-up", "undecided"}
+
+
+@pytest.mark.parametrize("kwargs,word", [
+    (dict(t_end=1e300), "renormalisations"),
+    (dict(t_end=10.0, renorm_interval=1e-3), "renorm_interval"),      # below dt = 0.01
+    (dict(t_end=10.0, blowup_stretch=float("nan")), "blowup_stretch"),
+    (dict(t_end=1e14, dt=1e-3, renorm_interval=1e3), "step counter"),
+])
+def test_bad_chaos_options(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        chaos.lyapunov(Lattice(4), **kwargs)

@@ -49,24 +49,30 @@ def test_given_states_and_deviation_vectors():
 
 def test_blowup_lane_is_blowup_never_chaotic():
     """Model 3, tau = 20 %, N = 64, seed 1 blows up near t = 2547 (Yoshida 4, dt = 0.01); its
-    SALI collapses at the last renormalisation before the overflow, which must not count."""
+    SALI collapses at the last renormalisation before the overflow, which must not count. Each
+    way of ending it (stretch check, non-finite state, criterion) agrees with lyapunov."""
     lats = [fputlab.Lattice(64, 0.25, "nonlinear", tau=20.0, seed=1),
             fputlab.Lattice(64, 0.25, "nonlinear", tau=10.0, seed=2)]
-    for stop in (False, True):
-        bad, good = lyapunov_batch(lats, 3000.0, n_samples=30, stop_when_chaotic=stop)
-        assert not bad.completed and not bad.chaotic and math.isnan(bad.t_chaotic)
-        assert bad.params["blew_up"] and bad.params["blowup_reason"] == "non-finite"
-        assert 2000 < bad.params["t_blowup"] < 2600 and "non-finite" in bad.message
-        assert good.completed and good.t_final == 3000.0
-        single = chaos.lyapunov(lats[1], 3000.0, n_samples=30)
-        _same(good.mle, single.mle)
+    for stretch, reason in ((None, "stretch"), (-1.0, "non-finite")):
+        for stop in (False, True):
+            bad, good = lyapunov_batch(lats, 3000.0, n_samples=30, stop_when_chaotic=stop,
+                                       blowup_stretch=stretch)
+            single = chaos.lyapunov(lats[0], 3000.0, n_samples=30, stop_when_chaotic=stop,
+                                    blowup_stretch=stretch)
+            assert not bad.completed and not bad.chaotic and math.isnan(bad.t_chaotic)
+            assert bad.blew_up and bad.params["blowup_reason"] == reason
+            assert 2000 < bad.t_blowup < 2600 and bad.t_blowup == single.t_blowup
+            assert bad.classify() == single.classify() == "blow-up"
+            _same(bad.mle, single.mle)
+            assert good.completed and good.t_final == 3000.0
+    _same(good.mle, chaos.lyapunov(lats[1], 3000.0, n_samples=30).mle)
     # with the bond-stretch criterion the event stops the lane first, placed in time as a
     # single-orbit blow-up run places it
     bad, good = lyapunov_batch(lats, 3000.0, n_samples=30, criteria=[("stretch", 4.0)])
     assert bad.classify() == "blow-up" and not bad.chaotic
     assert bad.params["blowup_reason"] == "event" and "x_{j+1} - x_j" in bad.message
     ref = fputlab.blowup.blowup_time(fputlab.Lattice(64, 0.25, "nonlinear", tau=20.0, seed=1), 3000.0)
-    assert ref.blew_up and abs(bad.params["t_blowup"] - ref.time) < 1e-6
+    assert ref.blew_up and abs(bad.t_blowup - ref.time) < 1e-6
     assert good.completed
 
 

@@ -106,3 +106,21 @@ def test_tauc_and_bifurcation_write_hdf5(tmp_path, capsys):
     assert main(["tauc", "--R", "20", "--out", str(out)]) == 0
     with h5py.File(out) as f:
         assert abs(f.attrs["tau_c_exact"] - 10.2578) < 1e-3      # closed-form expectation
+
+
+def test_chaos_figures_from_a_resumable_study(tmp_path):
+    # Figs. 12-14 continue the chaos study in the work directory; a second call with the same
+    # horizon redraws from the stored orbits without advancing any of them
+    work = tmp_path / "study"
+    args = ["figures", "--out", str(tmp_path), "--only", "12", "13", "14", "--t-end", "300",
+            "--work-dir", str(work), "--workers", "2"]
+    assert main(args) == 0
+    for name in ("fig12_chaos_N4_8_16.png", "fig13_chaos_N32_64.png",
+                 "fig14_chaotic_fraction.png"):
+        assert (tmp_path / name).stat().st_size > 10_000
+    stamps = {p.name: p.stat().st_mtime_ns for p in work.glob("orbit_*.npz")}
+    assert len(stamps) == 150                      # 30 realisations x N = 4, 8, 16, 32, 64
+    assert main(args) == 0
+    assert stamps == {p.name: p.stat().st_mtime_ns for p in work.glob("orbit_*.npz")}
+    from fputlab.study import ChaosStudy
+    assert ChaosStudy(work).reached() == 300.0

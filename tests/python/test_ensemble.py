@@ -135,8 +135,11 @@ def test_merged_chaos_matches_direct_call(tmp_path):
     assert set(COLUMNS["chaos"]) | set(SERIES["chaos"]) <= set(m)
     assert m["mle_t"].shape == m["sali_t"].shape == m["t"].shape and m["t"].shape[0] == 2
     i = 1
+    # chaos sweeps default to the validated fast scheme with early stop (fputlab.chaos)
+    from fputlab.chaos import ENSEMBLE_DT, ENSEMBLE_METHOD
     ref = lyapunov(fputlab.Lattice(8, 0.25, "nonlinear", tau=10.0, seed=int(m["seed"][i])),
-                   300.0, n_samples=30)
+                   300.0, n_samples=30, method=ENSEMBLE_METHOD, dt=ENSEMBLE_DT,
+                   stop_when_chaotic=True)
     k = int(m["n_samples"][i])
     assert k == ref.t.size
     np.testing.assert_array_equal(m["t"][i, :k], ref.t)
@@ -146,7 +149,7 @@ def test_merged_chaos_matches_direct_call(tmp_path):
     assert m["mle"][i] == ref.mle_final and m["sali"][i] == ref.sali[-1]
     assert m["classification"][i] == ref.classify() and m["t_final"][i] == ref.t_final
     with h5py.File(tmp_path / "c.h5") as f:
-        assert f.attrs["task_options"] == '{"n_samples": 30}'
+        assert f.attrs["task_options"] == '{"dt": 0.5, "n_samples": 30, "stop_when_chaotic": true}'
 
 
 @pytest.mark.parametrize("change, name", [

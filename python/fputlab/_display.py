@@ -1,0 +1,198 @@
+"""Short reprs and xarray conversion shared by the result dataclasses (Run, ChaosResult, Blowup,
+...). Written against `dataclasses.fields`, so a result class that gains or loses a field keeps
+a sensible one-line summary without touching this module."""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+#: Units and long names of the quantities in results (dimensionless units of the paper: unit
+#: masses and linear spring constant; see docs/conventions.md).
+VARIABLES = {
+    "t": ("time", "1"),
+    "t_chaos": ("time of the chaos-indicator samples", "1"),
+    "energy": ("total energy H (Eq. Hamilt; not conserved for model 3)", "1"),
+    "relative_energy_error": ("relative energy error |H(t) - H(0)| / |H(0)|", "1"),
+    "mode_energies": ("normal-mode energy E_k = (P_k^2 + omega_k^2 Q_k^2) / 2", "1"),
+    "states": ("state y = [x_1..x_N, p_1..p_N] (orbit, then deviation vectors)", "1"),
+    "x": ("displacement x_j", "1"),
+    "p": ("canonical momentum p_j", "1"),
+    "v": ("variability v_j", "1"),
+    "mle": ("finite-time maximum Lyapunov exponent lambda(t)", "1/time"),
+    "sali": ("smaller alignment index SALI(t)", "1"),
+    "gali": ("generalised alignment index GALI_k(t)", "1"),
+    "mode": ("normal-mode number k", "1"),
+    "site": ("particle index j", "1"),
+    "vector": ("0: the orbit, 1..k: deviation vectors", "1"),
+    "component": ("state component (x_1..x_N, p_1..p_N)", "1"),
+}
+
+
+def fmt(value) -> str:
+    """A number in at most 4 significant digits; other values by repr."""
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.4g}"
+    return repr(value)
+
+
+def time_span(t: np.ndarray) -> str:
+    """'t=0..8e+04, 801 samples' (or 'no samples')."""
+    t = np.asarray(t)
+    if t.size == 0:
+        return "no samples"
+    return f"t={fmt(t[0])}..{fmt(t[-1])}, {t.size} sample{'s' if t.size != 1 else ''}"
+
+
+def _shape(a: np.ndarray) -> str:
+    return "x".join(str(n) for n in a.shape) if a.ndim else "scalar"
+
+
+def dataclass_repr(obj, lead=(), skip=(), max_len: int = 220) -> str:
+    """One-line summary of a result dataclass: `lead` parts first, then every field with
+    repr=True that is not in `skip` -- flags, then numbers, then strings (cut), then arrays (as
+    their shape) and dicts (their scalar items) -- leaving out empty, None and NaN values, so a
+    cut at `max_len` loses the least telling parts."""
+    flags, numbers, texts, rest = [], [], [], []
+    for f in dataclasses.fields(obj):
+        if not f.repr or f.name in skip:
+            continue
+        value = getattr(obj, f.name)
+        if value is None or (isinstance(value, (str, dict, list, tuple)) and not value):
+            continue
+        if isinstance(value, np.ndarray):
+            rest.append(f"{f.name}[{_shape(value)}]")
+        elif isinstance(value, dict):
+            items = [f"{k}={fmt(v)}" for k, v in value.items()
+                     if v is not None and (isinstance(v, (str, bool, int, float, np.generic)))]
+            if items:
+                rest.append(f"{f.name}={{{', '.join(items)}}}")
+        elif isinstance(value, str):
+            texts.append(f"{f.name}={value[:60] + '...' if len(value) > 60 else value!r}")
+        elif isinstance(value, (bool, np.bool_)):
+            flags.append(f"{f.name}={fmt(value)}")
+        elif isinstance(value, (int, float, np.generic)):
+            if isinstance(value, (float, np.floating)) and math.isnan(value):
+                continue
+            numbers.append(f"{f.name}={fmt(value)}")
+        else:
+            text = repr(value)
+            rest.append(f"{f.name}={text if len(text) <= 60 else type(value).__name__}")
+    parts = list(lead) + flags + numbers + texts + rest
+    text = f"{type(obj).__name__}({', '.join(parts)})"
+    return text if len(text) <= max_len else text[:max_len - 4] + "...)"
+
+
+def require_xarray():
+    """Import xarray, or raise an ImportError that names the extra to install."""
+    try:
+        import xarray
+    except ImportError as err:
+        raise ImportError("to_xarray() needs xarray: pip install 'fputlab[xarray]' "
+                          "(or pip install xarray)") from err
+    return xarray
+
+
+def variable(dims, data, name: str, **attrs):
+    """(dims, data, attrs) for an xarray Dataset, with long_name and units from VARIABLES."""
+    long_name, units = VARIABLES.get(name, (name, "1"))
+    return dims, data, {"long_name": long_name, "units": units, **attrs}
+
+
+def scalar_attrs(obj, skip=()) -> dict:
+    """The scalar fields of a dataclass (and of its `params` dict) as netCDF-safe attributes."""
+    attrs = {}
+    for f in dataclasses.fields(obj):
+        if f.name in skip:
+            continue
+        value = getattr(obj, f.name)
+        items = value.items() if isinstance(value, dict) else [(f.name, value)]
+        for k, v in items:
+            if isinstance(v, (bool, np.bool_)):
+                attrs[k] = int(v)
+            elif isinstance(v, (int, float, str, np.integer, np.floating)):
+                attrs[k] = v.item() if isinstance(v, np.generic) else v
+    return attrs
+
+
+class ResultMixin:
+    """Short `__repr__` and `to_xarray()` for a result dataclass (declare it with
+    ``@dataclass(repr=False)`` so the dataclass does not replace this repr).
+
+    The summary names the lattice (from a ``params`` dict when there is one), the sampled time
+    span, the last value of every per-sample array and the scalar fields."""
+
+    #: name of the field holding the sample times (None: no time axis)
+    _time_field = "t"
+
+    def _time(self):
+        name = self._time_field
+        value = getattr(self, name, None) if name else None
+        return value if isinstance(value, np.ndarray) and value.ndim == 1 else None
+
+    def __repr__(self) -> str:
+        lead, skip = [], {"params"}
+        params = getattr(self, "params", None)
+        if isinstance(params, dict):
+            lead += [f"{k}={fmt(params[k])}" for k in ("N", "model") if params.get(k) is not None]
+            if params.get("seed") is not None:
+                lead.append(f"tau={fmt(params.get('tau'))}, seed={fmt(params['seed'])}")
+        t = self._time()
+        if t is not None:
+            lead.append(time_span(t).replace("t=", f"{self._time_field}=", 1))
+        classify = getattr(self, "classify", None)
+        if callable(classify):      # a result that can name its class says it first
+            try:
+                lead.append(f"class={classify()!r}")
+            except Exception:       # a repr never raises
+                pass
+        if t is not None:
+            skip.add(self._time_field)
+            last = []
+            for f in dataclasses.fields(self):
+                value = getattr(self, f.name)
+                if (f.name != self._time_field and isinstance(value, np.ndarray)
+                        and value.ndim == 1 and value.size == t.size):
+                    skip.add(f.name)
+                    if value.size:
+                        last.append(f"{f.name}={fmt(value[-1])}")
+            if last:
+                lead.append(f"last: {', '.join(last)}")
+        return dataclass_repr(self, lead, skip)
+
+    def to_xarray(self):
+        """The result as an ``xarray.Dataset`` with units and long names.
+
+        Arrays sampled at the times of the time field share its dimension; other arrays get
+        their own dimensions; scalar fields (and the ``params`` dict) become attributes.
+
+        Returns
+        -------
+        xarray.Dataset
+
+        Raises
+        ------
+        ImportError
+            If xarray is not installed (``pip install 'fputlab[xarray]'``).
+        """
+        xr = require_xarray()
+        t = self._time()
+        name_t = self._time_field
+        data, coords = {}, {}
+        if t is not None:
+            coords[name_t] = variable(name_t, t, name_t)
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if f.name == name_t or not isinstance(value, np.ndarray) or value.dtype == object:
+                continue
+            if t is not None and value.ndim >= 1 and value.shape[0] == t.size:
+                dims = (name_t,) + tuple(f"{f.name}_dim{i}" for i in range(1, value.ndim))
+            else:
+                dims = tuple(f"{f.name}_dim{i}" for i in range(value.ndim))
+            data[f.name] = variable(dims, value, f.name)
+        return xr.Dataset(data, coords=coords, attrs=scalar_attrs(self))

@@ -1,0 +1,69 @@
+"""Every figure function has one signature, figN(out_dir=".", *, full=False, ...), and returns
+the path of the PNG it wrote (a Figure: a pathlib.Path carrying the figure's numbers)."""
+import inspect
+import pathlib
+
+import pytest
+
+from fputlab import figures, figures_reduction
+from fputlab._figure import Figure, target
+
+# Figs. 11-14 are being reworked separately; they join this list when they take the signature.
+FIGURE_FUNCTIONS = {1: figures.fig1, 2: figures.fig2, 3: figures.fig3, **figures_reduction.FIGURES}
+
+
+@pytest.mark.parametrize("number", sorted(FIGURE_FUNCTIONS))
+def test_one_signature(number):
+    params = list(inspect.signature(FIGURE_FUNCTIONS[number]).parameters.values())
+    assert params[0].name == "out_dir" and params[0].default == "."
+    assert params[0].kind is inspect.Parameter.POSITIONAL_OR_KEYWORD
+    full = inspect.signature(FIGURE_FUNCTIONS[number]).parameters["full"]
+    assert full.kind is inspect.Parameter.KEYWORD_ONLY and full.default is False
+    # everything else is a keyword-only option
+    assert all(p.kind is inspect.Parameter.KEYWORD_ONLY for p in params[1:])
+
+
+def test_target_is_a_directory_or_a_png(tmp_path):
+    assert target(tmp_path / "a" / "b", "fig.png") == str(tmp_path / "a" / "b" / "fig.png")
+    assert (tmp_path / "a" / "b").is_dir()
+    assert target(tmp_path / "c" / "mine.PNG", "fig.png") == str(tmp_path / "c" / "mine.PNG")
+    assert (tmp_path / "c").is_dir()
+
+
+def test_figure_functions_return_the_png_path_with_numbers(tmp_path):
+    fig = figures_reduction.fig7(tmp_path, N=64)
+    assert isinstance(fig, Figure) and isinstance(fig, pathlib.Path)
+    assert fig == tmp_path / "fig07_bifurcation.png" and fig.read_bytes()[:4] == b"\x89PNG"
+    assert fig["path"] == str(fig) and fig["r1sq"] == pytest.approx(65 / 8)
+    assert fig.numbers == {"r1sq": pytest.approx(65 / 8)}
+
+
+def test_fig3_title_shows_formulas_not_markup(tmp_path):
+    fig = figures.fig3(tmp_path)
+    assert fig.numbers["blowup_time"] == pytest.approx(2545, abs=1)
+    assert figures._criterion_mathtext("max |x_{j+1} - x_j| > 4") == r"$\max |x_{j+1} - x_j| > 4$"
+
+
+def test_mode_energy_legend_keeps_off_a_dominant_E1():
+    # Fig. 2(d): E_1 runs along the top of the panel and the others near zero; the legend
+    # must not sit on E_1 (it used to be pinned to the upper right)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from types import SimpleNamespace
+
+    from fputlab.plotting import plot_mode_energies
+    t = np.linspace(0, 8e4, 801)
+    E = np.zeros((t.size, 64))
+    E[:, 0] = 0.075 + 0.04 * np.sin(2 * np.pi * t / 4e4 - np.pi / 2) * -1
+    E[:, 1:4] = 1e-4 * (1 + np.sin(t / 1e4))[:, None]
+    run = SimpleNamespace(t=t, mode_energies=E, energy=E.sum(axis=1))
+    fig, ax = plt.subplots(figsize=(6, 4))
+    plot_mode_energies(run, ax=ax)
+    fig.canvas.draw()
+    box = ax.get_legend().get_window_extent()
+    e1 = ax.transData.transform(np.column_stack([t, E[:, 0]]))
+    inside = (box.x0 <= e1[:, 0]) & (e1[:, 0] <= box.x1) & (box.y0 <= e1[:, 1]) & (e1[:, 1] <= box.y1)
+    assert not inside.any()
+    plt.close(fig)
