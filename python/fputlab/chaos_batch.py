@@ -142,7 +142,7 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     arrays = [ptr(a) for a in (t, mle, sali, gali)]
     span = bo.t_end - t0
     if progress:
-        from tqdm import tqdm
+        from tqdm.auto import tqdm
         with tqdm(total=span, desc=f"chaos batch R={R} N={N}", unit="t", disable=None,
                   bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
             for k in range(1, 101):
