@@ -9,6 +9,7 @@
 #include "fputlab/splitting.h"
 #include "fputlab/integrator.h"
 #include "fputlab/chaos.h"
+#include "fputlab/chaos_batch.h"
 #include "fputlab/events.h"
 #include "fputlab/reduction.h"
 #include "fputlab/io.h"
