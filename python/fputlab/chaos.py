@@ -2,7 +2,9 @@
 orbits, and the chaotic fraction over disorder realisations (paper Sec. 5, Figs. 11-14)."""
 from __future__ import annotations
 
+import inspect
 import math
+import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -250,6 +252,16 @@ def _one_realisation(args):
     return N, seed, res
 
 
+def _batch_of_realisations(args):
+    """Several realisations of one N in one batched run (fputlab.chaos_batch): the same numbers
+    as `_one_realisation` for each, several times cheaper per orbit for small N."""
+    from .chaos_batch import lyapunov_batch
+    N, tau, seeds, model, alpha, t_end, method, kwargs = args
+    lats = [Lattice(N, alpha, model, tau=tau, seed=s) for s in seeds]
+    res = lyapunov_batch(lats, t_end, method=method, **kwargs)
+    return [(N, s, r) for s, r in zip(seeds, res)]
+
+
 def ensemble_defaults(method: str | None, kwargs: dict) -> tuple[str, dict]:
     """(method, options) of a chaos ensemble: ENSEMBLE_METHOD at ENSEMBLE_DT unless a method is
     given, and early stop of chaotic orbits unless stop_when_chaotic is given."""
@@ -269,25 +281,38 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
     disorder draws for each N (paper Fig. 14: tau = 10 %, model 3, t = 1e8), and how many blew
     up (never counted as chaotic). Realisations run on the ensemble engine (local processes,
     or a Dask cluster with `scheduler`). method: default ENSEMBLE_METHOD at ENSEMBLE_DT; chaotic
-    orbits stop early unless stop_when_chaotic=False. kwargs go to `lyapunov`.
+    orbits stop early unless stop_when_chaotic=False. kwargs go to `lyapunov`. The splitting
+    schemes run the orbits of one N in the vector lanes of the batched kernel
+    (fputlab.chaos_batch.lyapunov_batch: the same numbers, several times cheaper for N <= 16).
     Returns {"N", "percent", "blowups", "classes": {N: {class: count}},
     "results": {N: [ChaosResult, ...]}}. For t = 1e8 use the resumable fputlab.study."""
     from .ensemble import check_ensemble, run_calls
     method, kwargs = ensemble_defaults(method, kwargs)
     _, Ns, realisations = check_ensemble([tau], Ns, realisations)
     Ns = [int(N) for N in Ns]
-    calls = [((N, tau, first_seed + r, model, alpha, t_end, method, kwargs),)
-             for N in Ns for r in range(realisations)]
+    seeds = [first_seed + r for r in range(realisations)]
+    from .chaos_batch import BATCH_METHODS, lyapunov_batch
+    batched = method in BATCH_METHODS and set(kwargs) <= set(
+        inspect.signature(lyapunov_batch).parameters)
+    if batched:    # orbits of one N in the vector lanes: chunks of >= 4 orbits, one per core
+        cores = workers or os.cpu_count() or 1
+        per = max(4, -(-realisations // cores))
+        calls = [((N, tau, seeds[i:i + per], model, alpha, t_end, method, kwargs),)
+                 for N in Ns for i in range(0, realisations, per)]
+        fn = _batch_of_realisations
+    else:
+        calls = [((N, tau, s, model, alpha, t_end, method, kwargs),) for N in Ns for s in seeds]
+        fn = _one_realisation
     got: dict = {}
     from tqdm.auto import tqdm
-    with tqdm(total=len(calls), desc="chaos", disable=None if progress else True) as bar:
-        for _, out, err in run_calls(_one_realisation, calls, workers=workers,
-                                     scheduler=scheduler):
+    with tqdm(total=len(Ns) * realisations, desc="chaos", unit="orbit",
+              disable=None if progress else True) as bar:
+        for _, out, err in run_calls(fn, calls, workers=workers, scheduler=scheduler):
             if err is not None:
                 raise err
-            N, seed, res = out
-            got[N, seed] = res
-            bar.update(1)
+            for N, seed, res in (out if batched else [out]):
+                got[N, seed] = res
+                bar.update(1)
     results = {N: [got[N, first_seed + r] for r in range(realisations)] for N in Ns}
     classes = {N: {c: sum(r.classify() == c for r in results[N]) for c in CLASSES} for N in Ns}
     percent = [100.0 * classes[N]["chaotic"] / realisations for N in Ns]
