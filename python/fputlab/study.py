@@ -234,6 +234,128 @@ def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: s
             "done": done, "wall": wall, "elapsed": time.monotonic() - started}
 
 
+# ---- batched pieces: the orbits of one N in the vector lanes (fputlab.chaos_batch) -----------
+# fpl_chaos_save accumulators: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
+# t_final, done, blew_up, t_blowup, completed, t_pending; a batch lane (fpl_chaos_batch_save):
+# logsum, next, pending, n_samples, t_final, mle, sali, gali, chaotic, t_chaotic, blew_up,
+# t_blowup, blowup_reason, event_index, steps, done, running. A lane computes exactly what
+# fpl_chaos computes for its orbit, so an orbit file moves in and out of a lane losslessly.
+_LANE_ACC, _BATCH_HEADER = 17, 8
+
+
+def _lane_from_orbit(acc, steps):
+    chaotic, t_pending = bool(acc[4]), float(acc[14])
+    pending = not chaotic and t_pending == t_pending
+    t_chaotic = float(acc[5]) if chaotic else (t_pending if pending else math.nan)
+    return [acc[1], acc[2], float(pending), acc[3], acc[9], acc[6], acc[7], acc[8],
+            float(chaotic), t_chaotic, 0.0, math.nan, 0.0, -1.0, float(steps), 0.0, 1.0]
+
+
+def _orbit_from_lane(lane, renorm_interval):
+    chaotic, pending, blew_up, done = (bool(lane[i]) for i in (8, 2, 10, 15))
+    t_final = float(lane[4])
+    t_pending = float(lane[9]) if (pending or chaotic) else math.nan
+    return np.array([round(t_final / renorm_interval), lane[0], lane[1], lane[3],
+                     float(chaotic), lane[9] if chaotic else math.nan, lane[5], lane[6], lane[7],
+                     t_final, float(done), float(blew_up), lane[11],
+                     float(done and not blew_up), t_pending])
+
+
+def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
+                  save_every: float = 120.0) -> list[dict]:
+    """Advance several orbits of one N (all at the same step, e.g. a horizon) together in the
+    batched kernel to t_until, reading and writing the same per-orbit state files as
+    `advance_orbit` (the numbers are those of one orbit at a time, bit for bit)."""
+    spec = StudySpec.from_json(spec_json)
+    work = Path(work_dir)
+    seeds = list(seeds)
+    saved = [_load(_orbit_path(work, N, s), spec_json) for s in seeds]
+    key = {(int(d["steps"]) if d is not None else 0) for d in saved}
+    if len(key) != 1 or any(d is not None and (bool(d["acc"][10]) or bool(d.get("failed", False)))
+                            for d in saved):
+        return [advance_orbit(spec_json, N, s, t_until, work_dir, save_every) for s in seeds]
+    R, S, k = len(seeds), spec.n_samples, 2
+    lats = [Lattice(N, spec.alpha, spec.model, tau=spec.tau, seed=s if spec.tau else None)
+            for s in seeds]
+    io = ffi.new("fpl_integrator_options *")
+    lib.fpl_integrator_options_init(io)
+    io.dt = spec.dt
+    bo = ffi.new("fpl_chaos_batch_options *")
+    lib.fpl_chaos_batch_options_init(bo)
+    bo.t_end, bo.renorm_interval, bo.n_samples = spec.t_end, spec.renorm_interval, S
+    bo.sali_threshold, bo.stop_when_chaotic = spec.sali_threshold, spec.stop_when_chaotic
+    y0 = np.ascontiguousarray(np.stack([lat.mode_state() for lat in lats]))
+    handles = ffi.new("fpl_lattice *[]", [lat._h for lat in lats])
+    out = ffi.new("fpl_chaos_batch **")
+    check(lib.fpl_chaos_batch_create(handles, R, spec.method.encode(), io, 0.0, ptr(y0),
+                                     ffi.NULL, bo, out))
+    b = ffi.gc(out[0], lambda h: lib.fpl_chaos_batch_free(ffi.new("fpl_chaos_batch **", h)))
+    arrays = [np.full((R, S), np.nan) for _ in range(4)]
+    size = lib.fpl_chaos_batch_save_size(b)
+    lane_len = 2 * N * (k + 1)
+    walls = [0.0] * R
+    if saved[0] is not None:          # into the lanes: the orbits' own accumulators and states
+        buf = np.empty(size)
+        check(lib.fpl_chaos_batch_save(b, ptr(buf)))      # the header of this batch
+        steps = int(saved[0]["steps"])
+        buf[4], buf[5], buf[6] = steps, saved[0]["acc"][0], R
+        for r, d in enumerate(saved):
+            p = _BATCH_HEADER + r * (_LANE_ACC + lane_len)
+            buf[p:p + _LANE_ACC] = _lane_from_orbit(d["acc"], steps)
+            buf[p + _LANE_ACC:p + _LANE_ACC + lane_len] = d["state"]
+            for a, name in zip(arrays, ("t", "mle", "sali", "gali")):
+                a[r] = d["s_" + name]
+            walls[r] = float(d["wall"])
+        check(lib.fpl_chaos_batch_restore(b, ptr(buf), size))
+
+    def save(cpu):
+        buf = np.empty(size)
+        check(lib.fpl_chaos_batch_save(b, ptr(buf)))
+        t_batch = lib.fpl_chaos_batch_time(b)
+        for r, s in enumerate(seeds):
+            p = _BATCH_HEADER + r * (_LANE_ACC + lane_len)
+            lane = buf[p:p + _LANE_ACC]
+            acc = _orbit_from_lane(lane, spec.renorm_interval)
+            if not lane[15]:                  # running: the lanes' common step and time
+                acc[0] = buf[5]
+            t_file = t_batch if not lane[15] else float(lane[4])
+            tmp_state = buf[p + _LANE_ACC:p + _LANE_ACC + lane_len]
+            path = _orbit_path(work, N, s)
+            tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+            msg = ffi.string(lib.fpl_chaos_batch_message(b, r)).decode()
+            with open(tmp, "wb") as f:
+                np.savez(f, spec=np.array(spec_json), steps=np.int64(lane[14]),
+                         t=np.float64(t_file), state=tmp_state, acc=acc,
+                         s_t=arrays[0][r], s_mle=arrays[1][r], s_sali=arrays[2][r],
+                         s_gali=arrays[3][r], message=np.array(msg),
+                         wall=np.float64(walls[r] + cpu / R), failed=np.bool_(False))
+                f.flush()
+                os.fsync(f.fileno())
+            os.replace(tmp, path)
+
+    seg = spec.renorm_interval * max(1, round(2e4 / spec.renorm_interval))
+    cpu0 = time.process_time()
+    last_save = time.monotonic()
+    t_now = lib.fpl_chaos_batch_time(b)
+    while not lib.fpl_chaos_batch_done(b) and t_now < t_until:
+        check(lib.fpl_chaos_batch_advance(b, min(t_now + seg, t_until),
+                                          *(ptr(a) for a in arrays)))
+        t_now = lib.fpl_chaos_batch_time(b)
+        if time.monotonic() - last_save > save_every:
+            save(time.process_time() - cpu0)
+            last_save = time.monotonic()
+    save(time.process_time() - cpu0)
+    res = ffi.new("fpl_chaos_batch_result *")
+    summary = []
+    for r, s in enumerate(seeds):
+        check(lib.fpl_chaos_batch_get_result(b, r, res))
+        summary.append({"N": N, "seed": s, "t": float(res.t_blowup if res.blew_up else
+                                                      (t_now if not res.done else res.t_final)),
+                        "done": bool(res.done)})
+    del lats
+    return summary
+
+
 def _run_pieces(fn, calls, workers, scheduler):
     """Yield (call, result, error) for fn(*call) over a local process pool or a Dask cluster
     (fputlab.ensemble's engines)."""
@@ -250,13 +372,18 @@ class ChaosStudy:
         Directory of the study: study.json (the parameters) and one state file per orbit.
         An existing directory is continued; its parameters must match the ones given (only
         the ones given are compared; the rest are taken from it).
+    batched : bool, optional
+        Advance the orbits of one N together in the vector lanes of the batched kernel
+        (fputlab.chaos_batch; default) when the method allows it. The numbers are the same
+        either way, and a study can switch between the two at any piece.
     **params
         StudySpec fields: Ns, realisations, tau, model, alpha, first_seed, t_end, method, dt,
         rtol, atol, renorm_interval, n_samples, sali_threshold, stop_when_chaotic.
     """
 
-    def __init__(self, work_dir, **params):
+    def __init__(self, work_dir, *, batched: bool = True, **params):
         self.work = Path(work_dir)
+        self.batched = bool(batched)
         unknown = set(params) - set(StudySpec.__dataclass_fields__)
         if unknown:
             raise TypeError(f"unknown study parameter(s): {', '.join(sorted(unknown))} "
@@ -307,22 +434,42 @@ class ChaosStudy:
         bar.update(sum(min(o.t, t_until) for o in state.values()))
         try:
             for h in horizons:
-                todo = [(o.N, o.seed) for o in state.values() if not o.done and o.t < h]
+                todo = [(o.N, o.seed, o.t) for o in state.values() if not o.done and o.t < h]
                 todo.sort(key=lambda ns: -ns[0])     # the costly large-N orbits first
-                calls = [(self._json, N, seed, h, str(self.work), save_every) for N, seed in todo]
-                for call, out, err in _run_pieces(advance_orbit, calls, workers, scheduler):
+                fn, calls = self._calls(todo, h, workers, save_every)
+                for call, outs, err in _run_pieces(fn, calls, workers, scheduler):
                     if err is not None:
                         raise err
-                    o = state[out["N"] * 10**9 + out["seed"]]
-                    before = o.t
-                    o.t, o.done = out["t"], out["done"]
-                    bar.update(min(o.t, t_until) - min(before, t_until))
-                    if o.done:        # decided early: its remaining time is not work
-                        bar.total -= t_until - min(o.t, t_until)
-                        bar.refresh()
+                    for out in (outs if isinstance(outs, list) else [outs]):
+                        o = state[out["N"] * 10**9 + out["seed"]]
+                        before = o.t
+                        o.t, o.done = out["t"], out["done"]
+                        bar.update(min(o.t, t_until) - min(before, t_until))
+                        if o.done:        # decided early: its remaining time is not work
+                            bar.total -= t_until - min(o.t, t_until)
+                            bar.refresh()
         finally:
             bar.close()
         return self.status()
+
+    def _calls(self, todo, h, workers, save_every):
+        """(function, calls) advancing the orbits `todo` to h: with a batchable method the
+        orbits of one N go together in the vector lanes, in groups of >= 4 (one per core),
+        else one orbit per call."""
+        from .chaos_batch import BATCH_METHODS
+        if not self.batched or self.spec.method not in BATCH_METHODS:
+            return advance_orbit, [(self._json, N, seed, h, str(self.work), save_every)
+                                   for N, seed, _ in todo]
+        cores = workers or os.cpu_count() or 1
+        calls = []
+        # lanes must start at one step: orbits of one N at the same time (an interrupted piece
+        # leaves a few in between; they form their own groups)
+        for N, t in sorted({(N, t) for N, _, t in todo}, key=lambda nt: (-nt[0], nt[1])):
+            seeds = [s for n, s, tt in todo if (n, tt) == (N, t)]
+            per = max(4, -(-len(seeds) // cores))
+            calls += [(self._json, N, seeds[i:i + per], h, str(self.work), save_every)
+                      for i in range(0, len(seeds), per)]
+        return advance_group, calls
 
     # -- reading ---------------------------------------------------------------------------
     def _states(self) -> list[OrbitState]:
