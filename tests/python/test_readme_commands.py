@@ -60,3 +60,15 @@ def test_readme_command_runs(argv, tmp_path):
     cmd = [sys.executable, "-m", "fputlab"] + shortened(argv)[1:]
     proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, f"{shlex.join(cmd)}\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
+
+
+def test_simulate_reports_an_energy_error_only_for_conservative_models():
+    import json
+    runs = {}
+    for model in ("homogeneous", "nonlinear"):
+        out = subprocess.run([sys.executable, "-m", "fputlab", "simulate", "--model", model,
+                              "--N", "8", "--t-end", "50", "--json"], capture_output=True,
+                             text=True, check=True).stdout
+        runs[model] = json.loads(out)
+    assert runs["homogeneous"]["max_relative_energy_error"] < 1e-8
+    assert "max_relative_energy_error" not in runs["nonlinear"]
