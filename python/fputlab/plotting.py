@@ -57,6 +57,13 @@ def _per_result(value, n: int, name: str) -> list:
     return value
 
 
+def _labels_colors(labels, colors, n: int) -> tuple[list, list]:
+    """Per-result labels (one string labels the first result only) and colours."""
+    labels = [labels] + [None] * (n - 1) if isinstance(labels, str) else \
+        _per_result(labels, n, "labels")
+    return labels, _per_result(colors, n, "colors")
+
+
 def plot_mode_energies(run, modes=(1, 2, 3, 4), ax=None, relative: bool = False, *,
                        log: bool = False, legend: str | None = "best"):
     """Normal-mode energies E_k(t) of a run (paper Figs. 1b, 2b/d, 3).
@@ -185,9 +192,7 @@ def plot_mle(results, ax=None, *, labels=None, colors=None, guide: bool = True,
     """
     items = _as_list(results)
     ax = _axes(ax)
-    labels = _per_result(labels, len(items), "labels") if not isinstance(labels, str) \
-        else [labels] + [None] * (len(items) - 1)
-    colors = _per_result(colors, len(items), "colors")
+    labels, colors = _labels_colors(labels, colors, len(items))
     t_lo, t_hi = np.inf, 0.0
     for res, label, color in zip(items, labels, colors):
         t, mle = _get(res, "t"), _get(res, "mle")
@@ -232,9 +237,7 @@ def plot_sali(results, ax=None, *, labels=None, colors=None, threshold: float | 
     """
     items = _as_list(results)
     ax = _axes(ax)
-    labels = _per_result(labels, len(items), "labels") if not isinstance(labels, str) \
-        else [labels] + [None] * (len(items) - 1)
-    colors = _per_result(colors, len(items), "colors")
+    labels, colors = _labels_colors(labels, colors, len(items))
     for res, label, color in zip(items, labels, colors):
         ax.loglog(_get(res, "t"), _get(res, "sali"), lw=lw, alpha=alpha, color=color, label=label)
     if threshold is not None:
