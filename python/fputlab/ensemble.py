@@ -123,16 +123,58 @@ def _compute(task: Task, spec: SweepSpec) -> dict:
         from .chaos import _one_realisation
         _, _, res = _one_realisation((task.N, task.tau, task.seed, spec.model, spec.alpha,
                                       spec.t_max, spec.method, opts))
-        rec.update(mle=res.mle_final, sali=float(res.sali[-1]) if res.sali.size else float("nan"),
-                   classification=res.classify(), t_final=float(res.t_final),
-                   chaotic=bool(res.chaotic), t_chaotic=float(res.t_chaotic),
-                   steps=int(res.steps), completed=bool(res.completed),
-                   blew_up=bool(res.blew_up), t_blowup=float(res.t_blowup),
-                   t=np.asarray(res.t, float), mle_t=np.asarray(res.mle, float),
-                   sali_t=np.asarray(res.sali, float))
+        rec.update(_chaos_outcome(res))
     else:
         raise ValueError(f"kind {task.kind!r} is unknown (known: {', '.join(KINDS)})")
     return rec
+
+
+def _chaos_outcome(res) -> dict:
+    """The outcome columns and series of a chaos task from its ChaosResult."""
+    return dict(mle=res.mle_final, sali=float(res.sali[-1]) if res.sali.size else float("nan"),
+                classification=res.classify(), t_final=float(res.t_final),
+                chaotic=bool(res.chaotic), t_chaotic=float(res.t_chaotic),
+                steps=int(res.steps), completed=bool(res.completed),
+                blew_up=bool(res.blew_up), t_blowup=float(res.t_blowup),
+                t=np.asarray(res.t, float), mle_t=np.asarray(res.mle, float),
+                sali_t=np.asarray(res.sali, float))
+
+
+def run_chaos_group(tasks: list, spec: SweepSpec) -> list:
+    """Several chaos tasks of one (tau, N) in the batched kernel's vector lanes
+    (fputlab.chaos_batch): the records `run_task` gives for each, at a fraction of the cost for
+    small N. Returns [(task, record or None, message or None)]."""
+    from .chaos import _batch_of_realisations
+    t0 = tasks[0]
+    try:
+        out = _batch_of_realisations((t0.N, t0.tau, [t.seed for t in tasks], spec.model,
+                                      spec.alpha, spec.t_max, spec.method, dict(spec.options)))
+    except Exception as err:
+        return [(t, None, f"{type(err).__name__}: {err}") for t in tasks]
+    return [(t, {"kind": t.kind, "N": t.N, "tau": t.tau, "seed": t.seed, **_chaos_outcome(res)},
+             None) for t, (_, _, res) in zip(tasks, out)]
+
+
+def _batchable(spec: SweepSpec) -> bool:
+    from .chaos_batch import BATCH_METHODS, lyapunov_batch
+    return spec.kind == "chaos" and spec.method in BATCH_METHODS and \
+        set(dict(spec.options)) <= set(inspect.signature(lyapunov_batch).parameters)
+
+
+def _run_groups(todo, spec, workers, scheduler):
+    """Chaos tasks of one (tau, N) in groups of >= 4 per core, each group one batched call."""
+    cores = workers or os.cpu_count() or 1
+    calls = []
+    for key in sorted({(t.tau, t.N) for t in todo}):
+        group = [t for t in todo if (t.tau, t.N) == key]
+        per = max(4, -(-len(group) // cores))
+        calls += [(group[i:i + per], spec) for i in range(0, len(group), per)]
+    for (group, _), outs, err in run_calls(run_chaos_group, calls, workers=workers,
+                                           scheduler=scheduler):
+        if err is not None:
+            outs = [(t, None, f"{type(err).__name__}: {err}") for t in group]
+        for task, rec, msg in outs:
+            yield task, rec, (TaskFailed(msg) if msg else None)
 
 
 # ---- per-task files ---------------------------------------------------------------------------
@@ -435,7 +477,8 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
         bar = tqdm(total=len(todo), desc=f"{kind} sweep", unit="task",
                    disable=None if progress else True)
         bar.set_postfix(skipped=skipped)
-        engine = (_run_local(todo, spec, workers) if scheduler is None
+        engine = (_run_groups(todo, spec, workers, scheduler) if _batchable(spec)
+                  else _run_local(todo, spec, workers) if scheduler is None
                   else _run_dask(todo, spec, scheduler))
         try:
             for task, rec, err in engine:
