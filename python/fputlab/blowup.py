@@ -172,8 +172,8 @@ def _one(args):
 
 def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
                  model: str = "nonlinear", alpha: float = 0.25, method: str = "yoshida4",
-                 first_seed: int = 1, workers: int | None = None, progress: bool = False,
-                 **kwargs) -> dict:
+                 first_seed: int = 1, workers: int | None = None, scheduler=None,
+                 progress: bool = False, **kwargs) -> dict:
     """Probability of blow-up before `t_max` versus tau (and N) over disorder realisations, run
     in parallel processes.
 
@@ -197,6 +197,8 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
         Seed of the first realisation.
     workers : int, optional
         Worker processes (default: all cores).
+    scheduler : str or dask.distributed.Client, optional
+        Run on a Dask cluster instead (the ensemble engine, `fputlab.ensemble.run_calls`).
     progress : bool, optional
         A progress bar over the runs (tqdm.auto).
     **kwargs
@@ -211,16 +213,21 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
         "tau > tau_c" agrees with "blew up before t_max". Plot with `plot_sweep` or
         `fputlab.plotting.plot_blowup_sweep`.
     """
-    from .ensemble import check_ensemble, process_pool
+    from tqdm.auto import tqdm
+
+    from .ensemble import check_ensemble, run_calls
     taus, Ns, realisations = check_ensemble(taus, Ns, realisations)
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]
-    with process_pool(workers) as pool:
-        it = pool.map(_one, tasks)
-        if progress:
-            from tqdm.auto import tqdm
-            it = tqdm(it, total=len(tasks), desc="blow-up sweep", disable=None)
-        records = list(it)
+    done = {}
+    with tqdm(total=len(tasks), desc="blow-up sweep", disable=None if progress else True) as bar:
+        for (task,), rec, err in run_calls(_one, [(t,) for t in tasks], workers=workers,
+                                           scheduler=scheduler):
+            if err is not None:
+                raise err
+            done[task[:3]] = rec
+            bar.update(1)
+    records = [done[t[:3]] for t in tasks]          # in the order tau, N, seed
     prob = np.zeros((len(taus), len(Ns)))
     for i, tau in enumerate(taus):
         for j, N in enumerate(Ns):
