@@ -78,12 +78,34 @@ def _positive(a, name: str, minimum: int = 1):
         raise ValueError(f"--{name.replace('_', '-')} must be >= {minimum} (got {value})")
 
 
+def _human(v) -> str:
+    """A value as a person reads it: numbers to 6 significant digits, mappings as 'key value'
+    pairs, sequences comma-separated, no Python reprs."""
+    if isinstance(v, bool) or v is None:
+        return {True: "yes", False: "no", None: "-"}[v]
+    if isinstance(v, (float, np.floating)):
+        return f"{float(v):.6g}"
+    if isinstance(v, dict):
+        if v and all(isinstance(x, dict) for x in v.values()):       # e.g. classes per N
+            return " | ".join(f"{k}: {_human(x)}" for k, x in v.items())
+        return ", ".join(f"{k} {_human(x)}" for k, x in v.items())
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return ", ".join(_human(x) for x in v)
+    return str(v)
+
+
 def _emit(summary: dict, as_json: bool):
     if as_json:
         print(dumps_strict(summary, indent=2))
     else:
+        width = max((len(str(k)) for k in summary), default=0)
         for k, v in summary.items():
-            print(f"{k:>24}: {v}")
+            if isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+                print(f"{k:>{width}}:")                 # a table: one row per record
+                for row in v:
+                    print(f"{'':>{width}}  {_human(row)}")
+            else:
+                print(f"{k:>{width}}: {_human(v)}")
 
 
 def _output_paths(a, *names):

@@ -72,3 +72,12 @@ def test_simulate_reports_an_energy_error_only_for_conservative_models():
         runs[model] = json.loads(out)
     assert runs["homogeneous"]["max_relative_energy_error"] < 1e-8
     assert "max_relative_energy_error" not in runs["nonlinear"]
+
+
+def test_human_output_has_no_python_reprs():
+    # the text (non-JSON) summaries are for people: no dict/list reprs, numbers kept short
+    out = subprocess.run([sys.executable, "-m", "fputlab", "chaos", "--tau", "10",
+                          "--realisations", "2", "--Ns", "4", "8", "--t-end", "100"],
+                         capture_output=True, text=True, check=True).stdout
+    assert not re.search(r"[{}\[\]]|'", out), out
+    assert re.search(r"classes: 4: chaotic 0, regular \d", out), out
