@@ -62,16 +62,18 @@ struct fpl_chaos_batch {
 void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt)
 {
     if (!opt) return;
+    fpl_chaos_options c;              /* one set of defaults for both chaos handles */
+    fpl_chaos_options_init(&c);
     memset(opt, 0, sizeof *opt);
-    opt->t_end = NAN;
-    opt->renorm_interval = 1.0;
-    opt->n_samples = 200;
-    opt->t_first_sample = 0.0;
-    opt->n_dev = 2;
-    opt->sali_threshold = 1e-8;
-    opt->stop_when_chaotic = 0;
-    opt->seed = 1;
-    opt->blowup_stretch = 0.0;
+    opt->t_end = c.t_end;
+    opt->renorm_interval = c.renorm_interval;
+    opt->n_samples = c.n_samples;
+    opt->t_first_sample = c.t_first_sample;
+    opt->n_dev = c.n_dev;
+    opt->sali_threshold = c.sali_threshold;
+    opt->stop_when_chaotic = c.stop_when_chaotic;
+    opt->seed = c.seed;
+    opt->blowup_stretch = c.blowup_stretch;
     opt->compact = 1;
 }
 
