@@ -20,18 +20,28 @@ static int n_dev_of(fpl_lattice *lat, N_Vector y)
     return (int)(len / two_n) - 1;
 }
 
+/* What the right-hand sides check first: the deviation-vector count from the length of y (-1:
+ * unrecoverable), and a finite y (1: recoverable, the integrator retries with a smaller step).
+ * 0 and n_dev on success. */
+static int checked_state(fpl_lattice *lat, N_Vector y, sunrealtype t, const char *what,
+                         int *n_dev)
+{
+    if ((*n_dev = n_dev_of(lat, y)) < 0) return -1;
+    long bad;
+    if (!fpl_is_finite_array(N_VGetArrayPointer(y), N_VGetLength(y), &bad)) {
+        fpl_error(lat, FPL_ERR_NONFINITE, "%s called with non-finite y[%ld] at t = %g", what, bad,
+                  t);
+        return 1;
+    }
+    return 0;
+}
+
 int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 {
-    (void)t;
     fpl_lattice *lat = user_data;
-    int n_dev = n_dev_of(lat, y);
-    if (n_dev < 0) return -1;
+    int n_dev, st = checked_state(lat, y, t, "rhs", &n_dev);
+    if (st) return st;
     const double *yd = N_VGetArrayPointer(y);
-    long bad;
-    if (!fpl_is_finite_array(yd, N_VGetLength(y), &bad)) {
-        fpl_error(lat, FPL_ERR_NONFINITE, "rhs called with non-finite y[%ld] at t = %g", bad, t);
-        return 1; /* recoverable: let the integrator retry with a smaller step */
-    }
     fpl_kernel_rhs(lat, yd, n_dev, N_VGetArrayPointer(ydot));
     return 0;
 }
@@ -40,14 +50,9 @@ int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 int fpl_sun_force(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 {
     fpl_lattice *lat = user_data;
-    int n_dev = n_dev_of(lat, y);
-    if (n_dev < 0) return -1;
+    int n_dev, st = checked_state(lat, y, t, "force", &n_dev);
+    if (st) return st;
     const double *yd = N_VGetArrayPointer(y);
-    long bad;
-    if (!fpl_is_finite_array(yd, N_VGetLength(y), &bad)) {
-        fpl_error(lat, FPL_ERR_NONFINITE, "force called with non-finite y[%ld] at t = %g", bad, t);
-        return 1;
-    }
     const size_t n = (size_t)lat->n;
     double *f = N_VGetArrayPointer(ydot);
     for (int m = 0; m <= n_dev; m++) memset(f + 2 * n * (size_t)m, 0, sizeof(double) * n);
