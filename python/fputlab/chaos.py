@@ -257,6 +257,8 @@ def _batch_of_realisations(args):
     as `_one_realisation` for each, several times cheaper per orbit for small N."""
     from .chaos_batch import lyapunov_batch
     N, tau, seeds, model, alpha, t_end, method, kwargs = args
+    if len(seeds) == 1:      # one lane gains nothing over the single-orbit path (same numbers)
+        return [_one_realisation((N, tau, seeds[0], model, alpha, t_end, method, kwargs))]
     lats = [Lattice(N, alpha, model, tau=tau, seed=s) for s in seeds]
     res = lyapunov_batch(lats, t_end, method=method, **kwargs)
     return [(N, s, r) for s, r in zip(seeds, res)]

@@ -271,8 +271,10 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
     seeds = list(seeds)
     saved = [_load(_orbit_path(work, N, s), spec_json) for s in seeds]
     key = {(int(d["steps"]) if d is not None else 0) for d in saved}
-    if len(key) != 1 or any(d is not None and (bool(d["acc"][10]) or bool(d.get("failed", False)))
-                            for d in saved):
+    # one orbit alone gains nothing from the lanes (benchmarks/README.md, "Batched chaos": the
+    # kernel with one lane costs 0.9-1.2x the single-orbit path), so it takes that path
+    if len(seeds) == 1 or len(key) != 1 or any(
+            d is not None and (bool(d["acc"][10]) or bool(d.get("failed", False))) for d in saved):
         return [advance_orbit(spec_json, N, s, t_until, work_dir, save_every) for s in seeds]
     R, S, k = len(seeds), spec.n_samples, 2
     lats = [Lattice(N, spec.alpha, spec.model, tau=spec.tau, seed=s if spec.tau else None)
