@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import fputlab
-from fputlab import blowup, chaos, figures, figures_reduction, plotting, reduction
+from fputlab import analysis, blowup, chaos, ensemble, figures, figures_reduction, plotting, reduction
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -22,7 +22,21 @@ MAIN = [fputlab.Lattice, fputlab.Lattice.integrate, fputlab.integrate, fputlab.I
         plotting.plot_sali, plotting.plot_two_mode, plotting.plot_blowup_sweep,
         plotting.plot_bifurcation, plotting.plot_bifurcation_curves,
         figures.fig1, figures.fig2, figures.fig3, reduction.two_mode_coefficients,
-        reduction.critical_tolerance, reduction.two_mode_run, reduction.envelope_run]
+        reduction.critical_tolerance, reduction.two_mode_run, reduction.envelope_run,
+        chaos.chaotic_fraction, analysis.recurrences, analysis.energy_share,
+        analysis.spectral_entropy, analysis.effective_modes, analysis.normalised_entropy,
+        ensemble.run_sweep, ensemble.load_sweep, ensemble.run_calls, ensemble.run_task,
+        ensemble.run_chaos_group, ensemble.check_ensemble, ensemble.process_pool]
+
+
+@pytest.mark.parametrize("obj", [chaos.chaotic_fraction, analysis.recurrences,
+                                 analysis.energy_share, ensemble.run_sweep, ensemble.run_calls,
+                                 ensemble.load_sweep, ensemble.check_ensemble],
+                         ids=lambda o: o.__qualname__)
+def test_ensemble_and_analysis_docstrings_have_returns_and_raises(obj):
+    doc = inspect.getdoc(obj)
+    assert re.search(r"\n(Returns|Yields)\n-+\n", doc), obj
+    assert re.search(r"\nRaises\n-+\n", doc) or obj is ensemble.run_calls, obj
 
 
 def documented_parameters(doc: str) -> list[str]:
