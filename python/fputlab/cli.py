@@ -246,6 +246,9 @@ def cmd_blowup(a):
             summary["plot"] = a.plot
         _emit(summary, a.json)
         return 0
+    if a.scheduler:
+        raise ValueError("--scheduler: only for a sweep (several --tau or --N values, or "
+                         "--realisations > 1)")
     res = blowup_time(_lattice(a), a.t_end, method=a.method, progress=not a.json,
                       **_integrator_kwargs(a))
     _emit({"blew_up": res.blew_up, "time": res.time, "criterion": res.criterion,
@@ -264,6 +267,9 @@ class ChaosRow(NamedTuple):
 
 def cmd_chaos(a):
     from .chaos import chaotic_fraction, lyapunov
+    if a.scheduler and not a.fraction:
+        raise ValueError("--scheduler: only for the chaotic fraction (--realisations > 1 or "
+                         "several --N)")
     if a.checkpoint and (not a.out or a.fraction):
         raise ValueError("--checkpoint needs --out and one orbit (use `fputlab sweep` for ensembles)")
     _positive(a, "realisations")

@@ -178,6 +178,9 @@ def test_forms_that_need_disorder_say_so(capsys):
     assert "homogeneous model has no disorder" in capsys.readouterr().err
     assert main(["blowup", "--tau", "20", "--N", "8", "--t-end", "1", "--model", "homogeneous"]) == 2
     assert "homogeneous model has no disorder" in capsys.readouterr().err
+    for argv in (["blowup", "--tau", "20"], ["chaos"]):          # one run: no cluster
+        assert main(argv + ["--t-end", "1", "--scheduler", "tcp://127.0.0.1:9"]) == 2
+        assert "--scheduler: only for" in capsys.readouterr().err
 
 
 def test_simulate_without_options_runs_Lattice(tmp_path, capsys):
