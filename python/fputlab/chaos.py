@@ -195,7 +195,24 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     ChaosResult
         ``t``, ``mle``, ``sali``, ``gali`` at the sample times, and whether and when the orbit
         was found chaotic. A blow-up ends the run cleanly: ``blew_up``, ``t_blowup`` and
-        ``message`` say when and why, and the samples before it are kept.
+        ``message`` say when and why, and the samples before it are kept. A numerical failure
+        (not a blow-up) also returns, with ``completed`` False and the reason in ``message``.
+
+    Raises
+    ------
+    TypeError
+        `lattice` is not a `fputlab.Lattice`.
+    ValueError
+        An invalid option (unknown method, wrong shape of `y0` or `w0`, ...); the message
+        names it.
+    Interrupted
+        Ctrl-C; its ``result`` holds the ChaosResult computed so far.
+
+    Examples
+    --------
+    >>> import fputlab
+    >>> res = lyapunov(fputlab.Lattice(16), 1e4)          # doctest: +SKIP
+    >>> res.classify(), res.mle_final                     # doctest: +SKIP
     """
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
