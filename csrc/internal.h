@@ -20,27 +20,48 @@
 #define FPL_HOT
 #endif
 
-/* Record an error (thread-local, and on the handle if one is given) and return status. */
-int fpl_error(fpl_lattice *lattice, int status, const char *fmt, ...)
+/* Record an error (thread-local, and in the handle's message buffer `handle_msg` of
+ * FPL_ERRMSG_LEN chars if not NULL) and return status. */
+int fpl_error(char *handle_msg, int status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
-/* Clear the handle's message at the start of a call. */
-void fpl_error_clear(fpl_lattice *lattice);
+
+/* Scratch of the kernels for one lattice size, owned by whoever runs (an integrator, a chaos or
+ * batch handle, a Galerkin handle, an fpl_system). The lattice itself is read-only physics, so
+ * one lattice can serve several runs and threads, each with its own workspace. */
+typedef struct fpl_work {
+    int n;
+    double *phi;    /* N+1: bond forces */
+    double *kappa;  /* N+1: bond curvatures dphi/dR - dL/dR part */
+    double *dphi;   /* N+1: tangent bond forces; the velocities in fpl_modes_energies_work */
+    double *fft;    /* 2(N+1) for the sine transform */
+    void *fft_wavetable;  /* NULL unless created with_modes */
+    void *fft_workspace;
+    double *ek;     /* N: mode energies for the event criteria */
+} fpl_work;
+
+/* Allocate a workspace for lattices of N = n (errors via fpl_error); with_modes: also the FFT
+ * tables of the mode transforms (fpl_modes_energies_work, mode-energy criteria). */
+int fpl_work_create(int n, int with_modes, fpl_work **out);
+void fpl_work_free(fpl_work **work);
 
 /* A model is data: per-particle coefficient arrays plus a table of kernels.
  * Bond b = 0..N joins particle b-1 and b (0-based, particles -1 and N are the fixed ends):
  *   L_b = cl[b] x[b] - cl[b-1] x[b-1]   (linear stretch)
  *   R_b = cn[b] x[b] - cn[b-1] x[b-1]   (nonlinear stretch)
  *   phi_b = L_b + alpha R_b^2 + beta R_b^3,   F_i = s[i] (phi_{i+1} - phi_i),   x_i' = minv[i] p_i
- *   model 1: cl = cn = s = minv = 1;  model 2: cl = cn = s = v, minv = 1/v;  model 3: cl = s = minv = 1, cn = v. */
+ * Each model's entry in the table of models.c says how its coefficients follow from v. */
 typedef struct fpl_model_ops {
     int model;
     const char *name;
+    /* cl, cn, s, minv of particle j from its variability v_j (called once, at lattice create). */
+    void (*coefficients)(double v, double *cl, double *cn, double *s, double *minv);
     /* p += h F(x) and dp^(m) += h J(x) dx^(m), m < n_dev (y is the full state). */
-    void (*kick)(fpl_lattice *lat, double *y, int n_dev, double h);
+    void (*kick)(const fpl_lattice *lat, fpl_work *work, double *y, int n_dev, double h);
     /* energy of a 2N state */
     double (*energy)(const fpl_lattice *lat, const double *y);
 } fpl_model_ops;
 
+/* Immutable after fpl_lattice_create. */
 struct fpl_lattice {
     int n;
     double alpha, beta;
@@ -50,40 +71,58 @@ struct fpl_lattice {
     double *cn;     /* N */
     double *s;      /* N */
     double *minv;   /* N */
-    double *phi;    /* N+1 scratch: bond forces */
-    double *kappa;  /* N+1 scratch: bond curvatures dphi/dR - dL/dR part */
-    double *dphi;   /* N+1 scratch: tangent bond forces */
-    double *fft;    /* 2(N+1) scratch for the sine transform */
-    void *fft_wavetable;
-    void *fft_workspace;
-    double *ek;     /* N scratch: mode energies for event criteria */
-    /* Harmonic-split schemes (harmonic_split.c), allocated by their prepare hook: */
-    struct fpl_harmonic_cache *harm; /* Chebyshev coefficients of the drifts for one dt (opaque) */
-    double *harmwork;                /* 4N scratch */
-    fpl_event_set events;          /* stopping criteria (events.c) */
+};
+
+/* NULL, or the model's entry. */
+const fpl_model_ops *fpl_model_ops_for(int model);
+/* FPL_ERR_UNKNOWN "model %d is unknown (1 homogeneous, ...)" listing the table. */
+int fpl_model_unknown(int model);
+
+/* Stopping criteria (events.c). */
+/* Validate a set for lattices of size n (message prefixed "events: "). */
+int fpl_events_check(const fpl_event_set *events, int n);
+/* "max |x_{j+1} - x_j| > 4" etc. into buf (96 chars). */
+void fpl_events_describe(const fpl_event_set *events, int index, char *buf, size_t size);
+/* g_i(y) of the criteria, no validation. */
+void fpl_events_eval(const fpl_lattice *lat, fpl_work *work, const fpl_event_set *events,
+                     const double *y, double *g);
+
+/* The {lattice, criteria, workspace} of one run: user_data of the SUNDIALS callbacks, and what
+ * an integrator runs on. */
+struct fpl_system {
+    const fpl_lattice *lat;
+    fpl_event_set events;
     char event_desc[8][96];
+    fpl_work *work;
     char errmsg[FPL_ERRMSG_LEN];
 };
 
-/* g_i(y) of the lattice's criteria, no validation (events.c). */
-void fpl_events_eval(fpl_lattice *lat, const double *y, double *g);
-
-const fpl_model_ops *fpl_model_ops_for(int model);
-
 /* Generic kernels used by the public wrappers (all models). */
-void fpl_kernel_force(fpl_lattice *lat, const double *x, double *f);
-void fpl_kernel_tangent(fpl_lattice *lat, const double *x, int n_dev, const double *dx,
-                        double *df);
+void fpl_kernel_force(const fpl_lattice *lat, fpl_work *work, const double *x, double *f);
+void fpl_kernel_tangent(const fpl_lattice *lat, fpl_work *work, const double *x, int n_dev,
+                        const double *dx, double *df);
 /* Enumerate the non-zeros of the Jacobian of the first-order system with n_dev vectors. */
 typedef void (*fpl_emit_fn)(void *ctx, long row, long col, double value);
-void fpl_kernel_jacobian_entries(fpl_lattice *lat, const double *y, int n_dev, fpl_emit_fn emit,
-                                 void *ctx);
+void fpl_kernel_jacobian_entries(const fpl_lattice *lat, const double *y, int n_dev,
+                                 fpl_emit_fn emit, void *ctx);
 /* y' = f(y) with n_dev vectors, no validation. */
-void fpl_kernel_rhs(fpl_lattice *lat, const double *y, int n_dev, double *ydot);
+void fpl_kernel_rhs(const fpl_lattice *lat, fpl_work *work, const double *y, int n_dev,
+                    double *ydot);
 
-/* Splitting schemes: one table per file in csrc/integrators/. */
-typedef void (*fpl_step_fn)(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
-                            double dt);
+/* Mode energies with a caller's workspace (modes.c). */
+int fpl_modes_energies_work(const fpl_lattice *lat, fpl_work *work, const double *y,
+                            double *energies);
+
+/* Splitting schemes: one table per file in csrc/integrators/.
+ * A run of a scheme on a lattice: the scheme, the lattice, a workspace, and the scheme's own
+ * state (from its state_create hook; NULL for the drift-kick schemes). */
+typedef struct fpl_split_run {
+    const fpl_splitting *scheme;
+    const fpl_lattice *lat;
+    fpl_work *work;
+    void *state;
+} fpl_split_run;
+typedef void (*fpl_step_fn)(const fpl_split_run *run, double *y, int n_dev, double dt);
 struct fpl_splitting {
     const char *name;
     int order;
@@ -91,20 +130,23 @@ struct fpl_splitting {
     const double *drift;   /* a_0..a_s */
     const double *kick;    /* b_0..b_{s-1} */
     fpl_step_fn step;
-    /* Optional: check that the scheme applies to the lattice and set up what its step needs
-     * (called once per run before any step; the step itself never allocates). */
-    int (*prepare)(const fpl_splitting *scheme, fpl_lattice *lat);
+    /* Optional: check that the scheme applies to the lattice and allocate what its step needs
+     * (called once per run before any step; the step itself never allocates), and free it. */
+    int (*state_create)(const fpl_splitting *scheme, const fpl_lattice *lat, void **state);
+    void (*state_free)(void *state);
     const char *reference;
 };
+/* Fill run (state from the scheme's hook); errors via fpl_error. */
+int fpl_split_run_init(fpl_split_run *run, const fpl_splitting *scheme, const fpl_lattice *lat,
+                       fpl_work *work);
+void fpl_split_run_release(fpl_split_run *run);
 /* Drift-kick composition: A = x += h p/m (kinetic), B = p += h F(x) (whole force). */
-void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev, double dt);
+void fpl_step_aba(const fpl_split_run *run, double *y, int n_dev, double dt);
 /* Near-integrable composition (harmonic_split.c): A = exact flow of the harmonic chain (each
  * normal mode rotated by w_k h), B = kick by the anharmonic force only. */
-void fpl_step_harmonic(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
-                       double dt);
-int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat);
-/* Run a scheme's prepare hook, if it has one. */
-int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat);
+void fpl_step_harmonic(const fpl_split_run *run, double *y, int n_dev, double dt);
+int fpl_harmonic_state_create(const fpl_splitting *scheme, const fpl_lattice *lat, void **state);
+void fpl_harmonic_state_free(void *state);
 
 extern const fpl_splitting fpl_scheme_leapfrog;
 extern const fpl_splitting fpl_scheme_yoshida4;
@@ -112,15 +154,13 @@ extern const fpl_splitting fpl_scheme_aba864;
 extern const fpl_splitting fpl_scheme_aba864_harmonic;
 extern const fpl_splitting fpl_scheme_srkn14a6;
 
-/* Sine-transform workspace owned by the lattice (modes.c). */
-int fpl_modes_alloc(fpl_lattice *lat);
-void fpl_modes_release(fpl_lattice *lat);
-
 /* Anharmonic part of the force (bond forces alpha R^2 + beta R^3, R from cn) for lattices whose
- * linear part is the homogeneous chain; keeps kappa_b = 2 alpha R + 3 beta R^2 in lat->kappa
+ * linear part is the homogeneous chain; keeps kappa_b = 2 alpha R + 3 beta R^2 in work->kappa
  * for fpl_kernel_anharmonic_tangent (df = J_anh(x) dx at the same x). */
-void fpl_kernel_anharmonic_force(fpl_lattice *lat, const double *x, double *f);
-void fpl_kernel_anharmonic_tangent(fpl_lattice *lat, const double *dx, double *df);
+void fpl_kernel_anharmonic_force(const fpl_lattice *lat, fpl_work *work, const double *x,
+                                 double *f);
+void fpl_kernel_anharmonic_tangent(const fpl_lattice *lat, fpl_work *work, const double *dx,
+                                   double *df);
 
 int fpl_is_finite_array(const double *a, long len, long *first_bad);
 

@@ -12,7 +12,8 @@
 
 struct fpl_galerkin {
     int n, m;
-    fpl_lattice *lat;  /* own copy: the force kernel writes the lattice's scratch */
+    fpl_lattice *lat;  /* own copy: the handle does not depend on the caller's lattice's lifetime */
+    fpl_work *work;    /* the force kernel's scratch */
     double *basis;     /* m x n, basis[k n + j] = A_{j+1,k+1} */
     double *omega;     /* m */
     double *x, *f;     /* n scratch */
@@ -65,9 +66,7 @@ int fpl_reduction_coefficients(int n, double alpha, int model, const double *v, 
 {
     int st = check_chain(n, alpha);
     if (st) return st;
-    if (!fpl_model_ops_for(model))
-        return red_error(NULL, FPL_ERR_UNKNOWN,
-                         "model %d is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)", model);
+    if (!fpl_model_ops_for(model)) return fpl_model_unknown(model);
     if (!a || !b) return red_error(NULL, FPL_ERR_ARG, "a/b: NULL pointer");
     const int weighted = model != FPL_MODEL_HOMOGENEOUS && v != NULL;
     if (weighted) {
@@ -178,9 +177,7 @@ int fpl_reduction_moments(int n, double alpha, int model, int kind, double tau, 
 {
     int st = check_chain(n, alpha);
     if (st) return st;
-    if (!fpl_model_ops_for(model))
-        return red_error(NULL, FPL_ERR_UNKNOWN,
-                         "model %d is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)", model);
+    if (!fpl_model_ops_for(model)) return fpl_model_unknown(model);
     if (!(tau >= 0.0) || !isfinite(tau))
         return red_error(NULL, FPL_ERR_ARG, "tau must be finite and >= 0 (got %g)", tau);
     if (kind != FPL_DISORDER_GAUSSIAN && tau >= 100.0)
@@ -413,7 +410,7 @@ static void galerkin_accel(void *ctx, const double *q, double *acc)
         const double qk = q[k];
         for (int j = 0; j < n; j++) x[j] += qk * col[j];
     }
-    fpl_kernel_force(g->lat, x, f);
+    fpl_kernel_force(g->lat, g->work, x, f);
     for (int j = 0; j < n; j++) f[j] *= minv[j];
     for (int k = 0; k < m; k++) {
         const double *restrict col = g->basis + (size_t)k * n;
@@ -438,8 +435,9 @@ int fpl_galerkin_create(const fpl_lattice *lattice, int m, fpl_galerkin **out)
     g->m = m;
     int st = fpl_lattice_create(n, lattice->alpha, lattice->beta, lattice->ops->model, lattice->v,
                                 &g->lat);
+    if (!st) st = fpl_work_create(n, 0, &g->work);
     if (st) {
-        free(g);
+        fpl_galerkin_free(&g);
         return st;
     }
     g->basis = malloc(sizeof(double) * (size_t)m * n);
@@ -464,6 +462,7 @@ void fpl_galerkin_free(fpl_galerkin **galerkin)
     if (!galerkin || !*galerkin) return;
     fpl_galerkin *g = *galerkin;
     fpl_lattice_free(&g->lat);
+    fpl_work_free(&g->work);
     free(g->basis);
     free(g->omega);
     free(g->x);

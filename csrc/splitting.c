@@ -58,50 +58,59 @@ FPL_HOT static void drift(const fpl_lattice *lat, double *y, int n_dev, double h
     }
 }
 
-void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev, double dt)
+void fpl_step_aba(const fpl_split_run *run, double *y, int n_dev, double dt)
 {
+    const fpl_splitting *scheme = run->scheme;
+    const fpl_lattice *lat = run->lat;
     const int s = scheme->n_kicks;
     for (int i = 0; i < s; i++) {
         drift(lat, y, n_dev, scheme->drift[i] * dt);
-        lat->ops->kick(lat, y, n_dev, scheme->kick[i] * dt);
+        lat->ops->kick(lat, run->work, y, n_dev, scheme->kick[i] * dt);
     }
     drift(lat, y, n_dev, scheme->drift[s] * dt);
 }
 
-int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat)
+int fpl_split_run_init(fpl_split_run *run, const fpl_splitting *scheme, const fpl_lattice *lat,
+                       fpl_work *work)
 {
-    return scheme->prepare ? scheme->prepare(scheme, lat) : FPL_OK;
+    *run = (fpl_split_run){scheme, lat, work, NULL};
+    return scheme->state_create ? scheme->state_create(scheme, lat, &run->state) : FPL_OK;
 }
 
-static int check_step(fpl_lattice *lat, double dt)
+void fpl_split_run_release(fpl_split_run *run)
 {
-    if (!(dt > 0.0) || !isfinite(dt))
-        return fpl_error(lat, FPL_ERR_ARG, "dt must be finite and > 0 (got %g)", dt);
-    return FPL_OK;
+    if (run->state && run->scheme->state_free) run->scheme->state_free(run->state);
+    run->state = NULL;
 }
 
-int fpl_splitting_advance(const fpl_splitting *scheme, fpl_lattice *lattice, double *y, int n_dev,
-                          double dt, long nsteps)
+int fpl_splitting_advance(const fpl_splitting *scheme, const fpl_lattice *lattice, double *y,
+                          int n_dev, double dt, long nsteps)
 {
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
-    fpl_error_clear(lattice);
-    if (!scheme) return fpl_error(lattice, FPL_ERR_ARG, "scheme: NULL");
-    if (!y) return fpl_error(lattice, FPL_ERR_ARG, "y: NULL pointer");
-    if (n_dev < 0) return fpl_error(lattice, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", n_dev);
+    if (!scheme) return fpl_error(NULL, FPL_ERR_ARG, "scheme: NULL");
+    if (!y) return fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer");
+    if (n_dev < 0) return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", n_dev);
     if (nsteps < 0)
-        return fpl_error(lattice, FPL_ERR_ARG, "nsteps must be >= 0 (got %ld)", nsteps);
-    int st = check_step(lattice, dt);
-    if (st) return st;
+        return fpl_error(NULL, FPL_ERR_ARG, "nsteps must be >= 0 (got %ld)", nsteps);
+    if (!(dt > 0.0) || !isfinite(dt))
+        return fpl_error(NULL, FPL_ERR_ARG, "dt must be finite and > 0 (got %g)", dt);
     long len = 2L * lattice->n * (n_dev + 1), bad = -1;
     if (!fpl_is_finite_array(y, len, &bad))
-        return fpl_error(lattice, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
-    st = fpl_splitting_prepare(scheme, lattice);
+        return fpl_error(NULL, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
+    fpl_work *work = NULL;
+    int st = fpl_work_create(lattice->n, 0, &work);
     if (st) return st;
-    for (long k = 0; k < nsteps; k++)
-        scheme->step(scheme, lattice, y, n_dev, dt);
-    if (!fpl_is_finite_array(y, len, &bad))
-        return fpl_error(lattice, FPL_ERR_NONFINITE,
-                         "state became non-finite (y[%ld] = %g) within %ld steps of dt = %g", bad,
-                         y[bad], nsteps, dt);
-    return FPL_OK;
+    fpl_split_run run;
+    st = fpl_split_run_init(&run, scheme, lattice, work);
+    if (!st) {
+        for (long k = 0; k < nsteps; k++)
+            scheme->step(&run, y, n_dev, dt);
+        if (!fpl_is_finite_array(y, len, &bad))
+            st = fpl_error(NULL, FPL_ERR_NONFINITE,
+                           "state became non-finite (y[%ld] = %g) within %ld steps of dt = %g",
+                           bad, y[bad], nsteps, dt);
+    }
+    fpl_split_run_release(&run);
+    fpl_work_free(&work);
+    return st;
 }

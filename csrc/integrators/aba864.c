@@ -35,7 +35,6 @@ const fpl_splitting fpl_scheme_aba864 = {
     .drift = drift,
     .kick = kick,
     .step = fpl_step_aba,
-    .prepare = NULL,
     .reference = "Blanes, Casas, Farres, Laskar, Makazaga & Murua, Appl. Numer. Math. 68, 58 (2013), "
                  "ABA(8,6,4)",
 };
@@ -47,7 +46,8 @@ const fpl_splitting fpl_scheme_aba864_harmonic = {
     .drift = drift,
     .kick = kick,
     .step = fpl_step_harmonic,
-    .prepare = fpl_harmonic_prepare,
+    .state_create = fpl_harmonic_state_create,
+    .state_free = fpl_harmonic_state_free,
     .reference = "Blanes, Casas, Farres, Laskar, Makazaga & Murua, Appl. Numer. Math. 68, 58 (2013), "
                  "ABA(8,6,4) on the near-integrable split harmonic chain + anharmonic force",
 };
