@@ -214,7 +214,8 @@ FPL_INLINE void kick_drift_group(const fpl_chaos_batch *B, grp G, double h, doub
     kick_drift_particle(B, G, n, 2, h, hd, model, k, &fprev, dprev);
 }
 
-/* One step of the scheme (splitting.c: fpl_step_aba) for one group. */
+/* One step of the scheme (splitting.c: fpl_split_step on the lattice's kinetic split) for one
+ * group. */
 FPL_INLINE void step_group(const fpl_chaos_batch *B, grp G, double dt, int model, int k)
 {
     const fpl_splitting *sch = B->scheme;
@@ -523,17 +524,18 @@ static void run_lone(fpl_chaos_batch *B, double *y, int s, long nsteps, double d
 {
     const int o = B->orbit_of_slot[s];
     const fpl_splitting *sch = B->scheme;
-    const fpl_split_run run = {sch, B->lat[o], B->work, NULL}; /* kinetic-drift schemes: no state */
+    fpl_split_run run;                /* kinetic-drift schemes: no state, nothing allocated */
+    fpl_split_run_init(&run, sch, B->lat[o], B->work, B->k);
     double *ly = B->lane_y;
     slot_get(B, y, s, ly);
     for (long done = 0; done < nsteps;) {
         long block = B->ev.n > 0 && check ? (nsteps - done < EVENT_BLOCK ? nsteps - done : EVENT_BLOCK)
                                           : nsteps - done;
-        for (long i = 0; i < block; i++) sch->step(&run, ly, B->k, dt);
+        for (long i = 0; i < block; i++) fpl_split_step(sch, &run.sys, ly, dt);
         done += block;
         if (B->ev.n > 0 && check && !B->fired[s]) {
             double g[8];
-            fpl_events_eval(run.lat, B->work, &B->ev, ly, g);
+            fpl_events_eval(run.lc.lat, B->work, &B->ev, ly, g);
             for (int c = 0; c < B->ev.n; c++)
                 if (!(g[c] > 0.0)) {
                     B->fired[s] = 1;
@@ -739,7 +741,7 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
     const fpl_splitting *sch = NULL;
     for (int i = 0; i < fpl_splitting_count(); i++)
         if (strcmp(fpl_splitting_at(i)->name, method) == 0) sch = fpl_splitting_at(i);
-    if (!sch || sch->step != fpl_step_aba || sch->state_create) {
+    if (!sch || sch->run_setup) {
         int order, adaptive;
         int known = fpl_method_info(method, &order, &adaptive) == FPL_OK;
         return fpl_error(NULL, known ? FPL_ERR_ARG : FPL_ERR_UNKNOWN,

@@ -10,7 +10,7 @@
  * The split applies when the linear part is exactly the homogeneous chain: cl = s = minv = 1,
  * i.e. model 1, and model 3 (disorder in the nonlinear couplings only; there B is not a
  * gradient but the composition is still a consistent order-p scheme for x'' = F(x)). Model 2's
- * linear couplings vary: refused by the state_create hook.
+ * linear couplings vary: refused by the run_setup hook.
  *
  * How A is computed: as three shears, all in real space,
  *   x += T(K) p,   p -= S(K) x,   x += T(K) p,
@@ -38,6 +38,10 @@
 
 /* The scheme's state (fpl_split_run.state), owned by the run: the Chebyshev coefficients of
  * the drifts for one dt, and scratch. */
+static void harmonic_drift(void *ctx, double *y, int stage, double h);
+static void harmonic_kick(void *ctx, double *y, double h);
+static void harmonic_begin_step(void *ctx, const fpl_splitting *scheme, double dt);
+
 typedef struct fpl_harmonic_state {
     const fpl_splitting *scheme; /* coefficients are for this scheme and dt (scheme NULL: none) */
     double dt;
@@ -49,10 +53,10 @@ typedef struct fpl_harmonic_state {
 
 /* The scratch does not depend on the number of deviation vectors: they are processed one at a
  * time. */
-int fpl_harmonic_state_create(const fpl_splitting *scheme, const fpl_lattice *lat, void **state)
+int fpl_harmonic_run_setup(const fpl_splitting *scheme, fpl_split_run *run)
 {
+    const fpl_lattice *lat = run->lc.lat;
     const int n = lat->n;
-    *state = NULL;
     for (int j = 0; j < n; j++) {
         if (lat->cl[j] != 1.0 || lat->s[j] != 1.0 || lat->minv[j] != 1.0)
             return fpl_error(NULL, FPL_ERR_ARG,
@@ -73,7 +77,10 @@ int fpl_harmonic_state_create(const fpl_splitting *scheme, const fpl_lattice *la
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (harmonic split, N = %d)", n);
     }
     hs->work = work;
-    *state = hs;
+    run->state = hs;
+    run->sys.drift = harmonic_drift;
+    run->sys.kick = harmonic_kick;
+    run->sys.begin_step = harmonic_begin_step;
     return FPL_OK;
 }
 
@@ -192,11 +199,28 @@ static void rotate(const fpl_harmonic_state *hc, int n, double *y, int n_dev, in
     }
 }
 
-/* B-kick: p += h F_anh(x); deviation vectors dp += h J_anh(x) dx. */
-static void kick(const fpl_lattice *lat, fpl_work *work, double *f, double *y, int n_dev,
-                 double h)
+/* The drift of stage i (h is drift[i] dt of the step that begin_step prepared). */
+static void harmonic_drift(void *ctx, double *y, int stage, double h)
 {
-    const int n = lat->n;
+    (void)h;
+    const fpl_split_run *run = ctx;
+    rotate(run->state, run->lc.lat->n, y, run->lc.n_dev, stage);
+}
+
+static void harmonic_begin_step(void *ctx, const fpl_splitting *scheme, double dt)
+{
+    const fpl_split_run *run = ctx;
+    prepare_step(scheme, run->state, dt);
+}
+
+/* B-kick: p += h F_anh(x); deviation vectors dp += h J_anh(x) dx. */
+static void harmonic_kick(void *ctx, double *y, double h)
+{
+    const fpl_split_run *run = ctx;
+    const fpl_lattice *lat = run->lc.lat;
+    fpl_work *work = run->lc.work;
+    double *f = ((fpl_harmonic_state *)run->state)->work;
+    const int n = lat->n, n_dev = run->lc.n_dev;
     fpl_kernel_anharmonic_force(lat, work, y, f);
     axpy(n, h, f, y + n);
     for (int m = 1; m <= n_dev; m++) {
@@ -204,17 +228,4 @@ static void kick(const fpl_lattice *lat, fpl_work *work, double *f, double *y, i
         fpl_kernel_anharmonic_tangent(lat, work, dx, f);
         axpy(n, h, f, dx + n);
     }
-}
-
-void fpl_step_harmonic(const fpl_split_run *run, double *y, int n_dev, double dt)
-{
-    const fpl_splitting *scheme = run->scheme;
-    fpl_harmonic_state *hs = run->state;
-    const int s = scheme->n_kicks, n = run->lat->n;
-    prepare_step(scheme, hs, dt);
-    for (int i = 0; i < s; i++) {
-        rotate(hs, n, y, n_dev, i);
-        kick(run->lat, run->work, hs->work, y, n_dev, scheme->kick[i] * dt);
-    }
-    rotate(hs, n, y, n_dev, s);
 }

@@ -55,8 +55,9 @@ typedef struct fpl_model_ops {
     const char *name;
     /* cl, cn, s, minv of particle j from its variability v_j (called once, at lattice create). */
     void (*coefficients)(double v, double *cl, double *cn, double *s, double *minv);
-    /* p += h F(x) and dp^(m) += h J(x) dx^(m), m < n_dev (y is the full state). */
-    void (*kick)(const fpl_lattice *lat, fpl_work *work, double *y, int n_dev, double h);
+    /* p += h F(x) and dp^(m) += h J(x) dx^(m), m < n_dev (y is the full state); ctx is an
+     * fpl_lattice_ctx (the kick of the lattice's fpl_split_system, called directly). */
+    void (*kick)(void *ctx, double *y, double h);
     /* energy of a 2N state */
     double (*energy)(const fpl_lattice *lat, const double *y);
 } fpl_model_ops;
@@ -113,39 +114,81 @@ void fpl_kernel_rhs(const fpl_lattice *lat, fpl_work *work, const double *y, int
 int fpl_modes_energies_work(const fpl_lattice *lat, fpl_work *work, const double *y,
                             double *energies);
 
-/* Splitting schemes: one table per file in csrc/integrators/.
- * A run of a scheme on a lattice: the scheme, the lattice, a workspace, and the scheme's own
- * state (from its state_create hook; NULL for the drift-kick schemes). */
-typedef struct fpl_split_run {
-    const fpl_splitting *scheme;
+/* What a lattice kick works on: the lattice, the scratch, the number of deviation vectors. */
+typedef struct fpl_lattice_ctx {
     const fpl_lattice *lat;
     fpl_work *work;
-    void *state;
-} fpl_split_run;
-typedef void (*fpl_step_fn)(const fpl_split_run *run, double *y, int n_dev, double dt);
+    int n_dev;
+} fpl_lattice_ctx;
+
+/* ---- splitting: one second-order system, one step, one grid driver ------------------------ */
+
+/* A system for the drift-kick compositions (as gsl_odeiv2_system, or SPRKStep's f1/f2): a state
+ * y of length dim whose drift advances the positions by the momenta and whose kick advances the
+ * momenta by the forces. The lattice (orbit and deviation vectors, kinetic or harmonic split),
+ * the Galerkin truncation and the two-mode ODE are such systems (splitting.c, harmonic_split.c,
+ * reduction.c). */
+typedef struct fpl_split_system {
+    long dim;
+    /* flow of the drift part for time h; stage = i of the drift coefficient a_i (for systems that
+     * keep per-stage data, the harmonic split) */
+    void (*drift)(void *ctx, double *y, int stage, double h);
+    void (*kick)(void *ctx, double *y, double h);
+    /* optional: called before the stages of each step of dt (the harmonic split's cache) */
+    void (*begin_step)(void *ctx, const fpl_splitting *scheme, double dt);
+    void *ctx;
+} fpl_split_system;
+
+/* One step of dt: drift a_0, kick b_0, drift a_1, ..., kick b_{s-1}, drift a_s. */
+void fpl_split_step(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
+                    double dt);
+
+/* How often (in steps) the grid driver looks for NaN/Inf: a blow-up is caught early, placed in
+ * time, and the state rolled back to the last finite grid state (a copy every chunk costs
+ * ~1/1000 of the work). */
+#define FPL_FINITE_CHECK_INTERVAL 1024
+
+/* The fixed-step grid driver: whole steps of dt take y from grid step *step to n_target, with a
+ * NaN/Inf check every FPL_FINITE_CHECK_INTERVAL steps. On a non-finite state y is put back to the
+ * last finite grid state (backup: dim doubles of scratch), *step is its step, *step_bad the step
+ * at which the non-finite state was found, and FPL_ERR_NONFINITE is returned without a message
+ * (the caller words it); else FPL_OK with *step = n_target. */
+int fpl_split_grid_advance(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
+                           double *backup, long *step, long n_target, double dt, long *step_bad);
+
+typedef struct fpl_split_run fpl_split_run;
+
+/* Splitting schemes: one table per file in csrc/integrators/. */
 struct fpl_splitting {
     const char *name;
     int order;
     int n_kicks;           /* s; there are s+1 drifts */
     const double *drift;   /* a_0..a_s */
     const double *kick;    /* b_0..b_{s-1} */
-    fpl_step_fn step;
-    /* Optional: check that the scheme applies to the lattice and allocate what its step needs
-     * (called once per run before any step; the step itself never allocates), and free it. */
-    int (*state_create)(const fpl_splitting *scheme, const fpl_lattice *lat, void **state);
+    /* Optional, for schemes that are not the kinetic drift-kick split of the lattice: set up a
+     * run (check that the scheme applies to the lattice, allocate run->state, replace run->sys by
+     * the scheme's own split), once per run before any step (the step itself never allocates);
+     * state_free frees run->state. */
+    int (*run_setup)(const fpl_splitting *scheme, fpl_split_run *run);
     void (*state_free)(void *state);
     const char *reference;
 };
-/* Fill run (state from the scheme's hook); errors via fpl_error. */
+
+/* A scheme run on a lattice: its system (by default the kinetic split: drift x += h p/m, kick
+ * p += h F(x), each with the tangent map for the deviation vectors) and the scheme's state. */
+struct fpl_split_run {
+    fpl_lattice_ctx lc;    /* first member: the run is the lattice kicks' ctx */
+    const fpl_splitting *scheme;
+    void *state;           /* from scheme->run_setup, NULL for the kinetic split */
+    fpl_split_system sys;  /* ctx = the run */
+};
+/* Fill run for the lattice with n_dev deviation vectors (errors via fpl_error). */
 int fpl_split_run_init(fpl_split_run *run, const fpl_splitting *scheme, const fpl_lattice *lat,
-                       fpl_work *work);
+                       fpl_work *work, int n_dev);
 void fpl_split_run_release(fpl_split_run *run);
-/* Drift-kick composition: A = x += h p/m (kinetic), B = p += h F(x) (whole force). */
-void fpl_step_aba(const fpl_split_run *run, double *y, int n_dev, double dt);
-/* Near-integrable composition (harmonic_split.c): A = exact flow of the harmonic chain (each
- * normal mode rotated by w_k h), B = kick by the anharmonic force only. */
-void fpl_step_harmonic(const fpl_split_run *run, double *y, int n_dev, double dt);
-int fpl_harmonic_state_create(const fpl_splitting *scheme, const fpl_lattice *lat, void **state);
+/* The harmonic split (harmonic_split.c): drift = exact flow of the harmonic chain (each normal
+ * mode rotated by w_k h), kick = the anharmonic force only. */
+int fpl_harmonic_run_setup(const fpl_splitting *scheme, fpl_split_run *run);
 void fpl_harmonic_state_free(void *state);
 
 extern const fpl_splitting fpl_scheme_leapfrog;

@@ -98,10 +98,12 @@ FPL_INLINE void add_divergence_unit(int n, double h, const double *restrict phi,
 
 /* ---- kicks (the hot path of the splitting schemes) ------------------------------------- */
 
-FPL_HOT static void kick_generic(const fpl_lattice *lat, fpl_work *w, double *y, int n_dev,
-                                 double h)
+FPL_HOT static void kick_generic(void *ctx, double *y, double h)
 {
-    const int n = lat->n;
+    const fpl_lattice_ctx *c = ctx;
+    const fpl_lattice *lat = c->lat;
+    fpl_work *w = c->work;
+    const int n = lat->n, n_dev = c->n_dev;
     bond_forces_generic(n, y, lat->cl, lat->cn, lat->alpha, lat->beta, w->phi,
                         n_dev > 0 ? w->kappa : NULL);
     add_divergence(n, h, lat->s, w->phi, y + n);
@@ -112,10 +114,12 @@ FPL_HOT static void kick_generic(const fpl_lattice *lat, fpl_work *w, double *y,
     }
 }
 
-FPL_HOT static void kick_homogeneous(const fpl_lattice *lat, fpl_work *w, double *y, int n_dev,
-                                     double h)
+FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
 {
-    const int n = lat->n;
+    const fpl_lattice_ctx *c = ctx;
+    const fpl_lattice *lat = c->lat;
+    fpl_work *w = c->work;
+    const int n = lat->n, n_dev = c->n_dev;
     bond_forces_homogeneous(n, y, lat->alpha, lat->beta, w->phi, n_dev > 0 ? w->kappa : NULL);
     add_divergence_unit(n, h, w->phi, y + n);
     for (int m = 0; m < n_dev; m++) {
