@@ -3,6 +3,7 @@
  * energy conservation on the paper's problem, the tangent map, and the paper's FPUT recurrence.
  * Schemes: "leapfrog", "yoshida4", "aba864" (Blanes et al. 2013, ABA(8,6,4)), the same scheme on the
  * harmonic + anharmonic split ("aba864-harmonic") and "srkn14a6" (Blanes & Moan 2002, SRKN_14^a). */
+#include <pthread.h>
 #include <string.h>
 #include "check.h"
 #include "fputlab.h"
@@ -372,6 +373,87 @@ static void test_recurrence(void)
     fpl_lattice_free(&lat);
 }
 
+/* (f) A lattice is read-only physics: two runs on one lattice, one with a stopping criterion and
+ * one without, interleaved, do not see each other's criteria or scratch; and runs of different
+ * methods in two threads at once on one lattice give exactly the numbers of sequential runs. */
+typedef struct shared_run {
+    const fpl_lattice *lat;
+    const char *method;
+    double dt;
+    double y[2 * 32 * 2]; /* orbit + 1 deviation vector at t = 50 */
+    int status;
+} shared_run;
+
+static void *run_shared(void *arg)
+{
+    shared_run *r = arg;
+    const int n = fpl_lattice_size(r->lat);
+    double y0[2 * 32 * 2];
+    for (int i = 0; i < 4 * n; i++) y0[i] = i < 2 * n ? 0.0 : 0.1 * sin(i);
+    fpl_modes_initial_state(r->lat, 1, 1.0, y0);
+    fpl_integrator_options o;
+    fpl_integrator_options_init(&o);
+    o.dt = r->dt;
+    fpl_integrator *h = NULL;
+    r->status = fpl_integrator_create(r->lat, r->method, 1, &o, 0.0, y0, &h);
+    if (r->status == FPL_OK) r->status = fpl_integrator_advance(h, 50.0, r->y);
+    fpl_integrator_free(&h);
+    return NULL;
+}
+
+static void test_shared_lattice(void)
+{
+    const int n = 32;
+    double v[32], y0[64], ya[64], yb[64], yc[64];
+    CHECK_OK(fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, 10.0, 5, n, v));
+    fpl_lattice *lat = NULL;
+    CHECK_OK(fpl_lattice_create(n, 0.25, 0.0, FPL_MODEL_NONLINEAR, v, &lat));
+    if (!lat) return;
+    CHECK_OK(fpl_modes_initial_state(lat, 1, 1.0, y0));
+    /* E_2 = 0 at first; the quadratic coupling feeds mode 2 at once: E_2 > 1e-8 fires early */
+    fpl_event_set ev = {1, {FPL_EVENT_MODE_ENERGY}, {1e-8}, {2}};
+    fpl_integrator_options with, without;
+    fpl_integrator_options_init(&with);
+    fpl_integrator_options_init(&without);
+    with.events = &ev;
+    fpl_integrator *a = NULL, *b = NULL, *c = NULL;
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, &with, 0.0, y0, &a));
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, &without, 0.0, y0, &b));
+    CHECK_OK(fpl_integrator_create(lat, "yoshida4", 0, &without, 0.0, y0, &c));
+    CHECK(fpl_integrator_event_count(a) == 1 && fpl_integrator_event_count(b) == 0,
+          "criteria per run: %d, %d", fpl_integrator_event_count(a),
+          fpl_integrator_event_count(b));
+    int st_a = 0;
+    for (int k = 1; k <= 100 && a && b; k++) {          /* interleaved */
+        if (st_a == 0) st_a = fpl_integrator_advance(a, 0.5 * k, ya);
+        CHECK_OK(fpl_integrator_advance(b, 0.5 * k, yb));
+    }
+    CHECK(st_a == FPL_EVENT, "the run with the criterion stopped (status %d)", st_a);
+    if (c) CHECK_OK(fpl_integrator_advance(c, 50.0, yc)); /* alone, in one call */
+    CHECK(memcmp(yb, yc, sizeof yb) == 0, "the run without criteria is that of a run alone");
+    fpl_integrator_free(&a);
+    fpl_integrator_free(&b);
+    fpl_integrator_free(&c);
+
+    static const char *const methods[] = {"aba864-harmonic", "srkn14a6", "dop853", "cvode-bdf"};
+    static const double dts[] = {0.05, 0.1, 0.0, 0.0};
+    shared_run seq[4], par[4];
+    pthread_t th[4];
+    for (int i = 0; i < 4; i++) {
+        seq[i] = (shared_run){.lat = lat, .method = methods[i], .dt = dts[i]};
+        par[i] = seq[i];
+        run_shared(&seq[i]);
+        CHECK(seq[i].status == FPL_OK, "%s: %s", methods[i], fpl_last_error());
+    }
+    for (int i = 0; i < 4; i++) CHECK(pthread_create(&th[i], NULL, run_shared, &par[i]) == 0, "thread");
+    for (int i = 0; i < 4; i++) pthread_join(th[i], NULL);
+    for (int i = 0; i < 4; i++)
+        CHECK(par[i].status == FPL_OK && memcmp(par[i].y, seq[i].y, sizeof seq[i].y) == 0,
+              "%s in a thread differs from the sequential run", methods[i]);
+    printf("one lattice: criteria per run; 4 methods in 4 threads = sequential, bit for bit\n");
+    fpl_lattice_free(&lat);
+}
+
 int main(void)
 {
     test_tables();
@@ -396,5 +478,6 @@ int main(void)
         if (model != FPL_MODEL_HAMILTONIAN) test_tangent_map("aba864-harmonic", model);
     }
     test_recurrence();
+    test_shared_lattice();
     return check_report("splitting");
 }
