@@ -47,7 +47,9 @@ static double erk(fpl_lattice *lat, int n, int fused, double T, double *err_out,
     fpl_sun_erk_table("dop853", &B);
     ERKStepSetTable(mem, B);
     ARKodeButcherTable_Free(B);
-    ERK(SetUserData)(mem, lat);
+    fpl_system *sys = NULL;                  /* the callbacks' user data */
+    fpl_system_create(lat, NULL, &sys);
+    ERK(SetUserData)(mem, sys);
     ERK(SStolerances)(mem, 1e-10, 1e-10);
     ERK(SetMaxNumSteps)(mem, 10000000);
     ERK(SetStopTime)(mem, T);
@@ -60,6 +62,7 @@ static double erk(fpl_lattice *lat, int n, int fused, double T, double *err_out,
     for (int i = 0; i < 6 * n; i++) err = fmax(err, fabs(NV_Ith_S(y, i) - ref[i]));
     *err_out = err;
     ERK(Free)(&mem);
+    fpl_system_free(&sys);
     N_VDestroy(y);
     SUNContext_Free(&ctx);
     return 1e9 * wall / ((double)nfe * n);

@@ -100,7 +100,7 @@ static int ark_init(fpl_integrator *h)
                                   h->method->name);
     flag = FPL_SUN_SET_ERR_HANDLER(ERKStepSetErrHandlerFn, d->mem, &d->err);
     if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "ERKStepSetErrHandlerFn", flag);
-    if ((flag = FPL_ARK(ERKStep, SetUserData)(d->mem, h->lat)) != ARK_SUCCESS)
+    if ((flag = FPL_ARK(ERKStep, SetUserData)(d->mem, h->sys)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "ERKStepSetUserData", flag);
     ARKodeButcherTable B = NULL;
     if ((flag = fpl_sun_erk_table(h->method->name, &B)) != FPL_OK) return flag;
@@ -115,7 +115,7 @@ static int ark_init(fpl_integrator *h)
         (flag = FPL_ARK(ERKStep, SetInitStep)(d->mem, h->opt.dt)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "ERKStepSetInitStep", flag);
     /* Stopping criteria on the lattice: ARKODE's root-finding, g_i decreasing through zero. */
-    const int n_events = fpl_lattice_event_count(h->lat);
+    const int n_events = fpl_system_event_count(h->sys);
     if (n_events > 0) {
         int dirs[8];
         for (int i = 0; i < n_events; i++) dirs[i] = -1;

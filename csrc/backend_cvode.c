@@ -47,7 +47,7 @@ static int cv_init(fpl_integrator *h)
     if (flag != CV_SUCCESS) return fpl_sun_setup_failed(h, "CVodeSetErrHandlerFn", flag);
     if ((flag = CVodeInit(d->mem, fpl_sun_rhs, h->t, d->y)) != CV_SUCCESS)
         return fpl_sun_setup_failed(h, "CVodeInit", flag);
-    if ((flag = CVodeSetUserData(d->mem, h->lat)) != CV_SUCCESS)
+    if ((flag = CVodeSetUserData(d->mem, h->sys)) != CV_SUCCESS)
         return fpl_sun_setup_failed(h, "CVodeSetUserData", flag);
     if ((flag = CVodeSStolerances(d->mem, h->opt.rtol, h->opt.atol)) != CV_SUCCESS)
         return fpl_sun_setup_failed(h, "CVodeSStolerances", flag);
@@ -77,7 +77,7 @@ static int cv_init(fpl_integrator *h)
             return fpl_sun_setup_failed(h, "CVodeSetJacFn", flag);
     }
     /* Stopping criteria on the lattice: CVODE's root-finding, g_i decreasing through zero. */
-    const int n_events = fpl_lattice_event_count(h->lat);
+    const int n_events = fpl_system_event_count(h->sys);
     if (n_events > 0) {
         int dirs[8];
         for (int i = 0; i < n_events; i++) dirs[i] = -1;

@@ -32,7 +32,7 @@ static int gsl_rhs(double t, const double y[], double dydt[], void *params)
     fpl_integrator *h = params;
     h->n_force++;
     if (!fpl_is_finite_array(y, h->dim, NULL)) return GSL_EBADFUNC;
-    fpl_kernel_rhs(h->lat, y, h->n_dev, dydt);
+    fpl_kernel_rhs(h->lat, h->sys->work, y, h->n_dev, dydt);
     return GSL_SUCCESS;
 }
 
@@ -52,7 +52,7 @@ static void gsl_release(fpl_integrator *h)
  * Norsett & Wanner, Sec. II.4), with a fallback for a state at rest. */
 static double initial_step(fpl_integrator *h, double *f)
 {
-    fpl_kernel_rhs(h->lat, h->y, h->n_dev, f);
+    fpl_kernel_rhs(h->lat, h->sys->work, h->y, h->n_dev, f);
     h->n_force++;
     double d0 = 0.0, d1 = 0.0;
     for (long i = 0; i < h->dim; i++) {
@@ -69,7 +69,7 @@ static double initial_step(fpl_integrator *h, double *f)
 static int gsl_init(fpl_integrator *h)
 {
     gsl_set_error_handler_off(); /* never abort (also done by lattice creation) */
-    if (fpl_lattice_event_count(h->lat) > 0) /* silently ignoring them would be wrong */
+    if (fpl_system_event_count(h->sys) > 0) /* silently ignoring them would be wrong */
         return fpl_error(NULL, FPL_ERR_ARG, "method gsl-rk8pd does not support stopping criteria "
                          "(events); use a splitting, ARKODE or CVODE method");
     gsl_data *d = calloc(1, sizeof *d);

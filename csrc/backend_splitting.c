@@ -4,22 +4,30 @@
 #include <string.h>
 #include "integrator_impl.h"
 
-/* How often (in steps) to look for NaN/Inf: a blow-up is caught early, placed in time, and the
- * state rolled back to the last finite checkpoint (a copy every chunk costs ~1/1000 of the work). */
-#define FINITE_CHECK_INTERVAL 1024
+typedef struct split_data {
+    fpl_split_run run;    /* the lattice as a split system (with the integrator's workspace and
+                             n_dev), and the scheme's state */
+    double *start;        /* dim: last finite state / start of the current block */
+} split_data;
 
 static int split_init(fpl_integrator *h)
 {
-    int st = fpl_splitting_prepare(h->method->data, h->lat);
+    split_data *d = calloc(1, sizeof *d);
+    if (!d) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (splitting back end)");
+    h->data = d;
+    int st = fpl_split_run_init(&d->run, h->method->data, h->lat, h->sys->work, h->n_dev);
     if (st) return st;
-    h->data = malloc(sizeof(double) * (size_t)h->dim); /* last finite state */
-    if (!h->data) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (splitting back end)");
+    d->start = malloc(sizeof(double) * (size_t)h->dim);
+    if (!d->start) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (splitting back end)");
     return FPL_OK;
 }
 
 static void split_release(fpl_integrator *h)
 {
-    free(h->data);
+    split_data *d = h->data;
+    fpl_split_run_release(&d->run);
+    free(d->start);
+    free(d);
     h->data = NULL;
 }
 
@@ -31,10 +39,10 @@ static double event_min(fpl_integrator *h, const double *y, int *which)
         *which = 0;
         return -INFINITY;
     }
-    fpl_events_eval(h->lat, y, g);
+    fpl_events_eval(h->lat, h->sys->work, &h->sys->events, y, g);
     double best = g[0];
     *which = 0;
-    for (int i = 1; i < h->lat->events.n; i++)
+    for (int i = 1; i < h->sys->events.n; i++)
         if (g[i] < best) { best = g[i]; *which = i; }
     return best;
 }
@@ -44,7 +52,8 @@ static double event_min(fpl_integrator *h, const double *y, int *which)
  * by the Illinois method (bisection while G is not finite), leave the event state in h->y. */
 static int locate_event(fpl_integrator *h, const double *start, double dt, double g_a, double *work)
 {
-    const fpl_splitting *s = h->method->data;
+    const fpl_split_run *run = &((const split_data *)h->data)->run;
+    const fpl_splitting *s = run->scheme;
     const double t_start = h->t;
     double a = 0.0, b = dt, ga = g_a, gb = -INFINITY;
     int which = 0, side = 0;
@@ -58,7 +67,7 @@ static int locate_event(fpl_integrator *h, const double *start, double dt, doubl
             m = 0.5 * (a + b);                             /* G(b) = -inf: bisect */
         }
         memcpy(work, start, sizeof(double) * (size_t)h->dim);
-        s->step(s, h->lat, work, h->n_dev, m);
+        fpl_split_step(s, &run->sys, work, m);
         h->n_force += s->n_kicks;
         double gm = event_min(h, work, &which);
         if (gm > 0.0) {
@@ -73,7 +82,7 @@ static int locate_event(fpl_integrator *h, const double *start, double dt, doubl
     }
     /* the event state: the earliest point found past the crossing */
     memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
-    s->step(s, h->lat, h->y, h->n_dev, b);
+    fpl_split_step(s, &run->sys, h->y, b);
     h->n_force += s->n_kicks;
     double gfinal = event_min(h, h->y, &which);
     if (!isfinite(gfinal)) {
@@ -96,9 +105,11 @@ static int locate_event(fpl_integrator *h, const double *start, double dt, doubl
 
 static int split_advance_events(fpl_integrator *h, long n_target, double *work)
 {
-    const fpl_splitting *s = h->method->data;
+    split_data *d = h->data;
+    const fpl_split_run *run = &d->run;
+    const fpl_splitting *s = run->scheme;
     const double dt = h->opt.dt;
-    double *start = h->data;
+    double *start = d->start;
     int which;
     double g = event_min(h, h->y, &which);
     if (g <= 0.0) {
@@ -110,14 +121,14 @@ static int split_advance_events(fpl_integrator *h, long n_target, double *work)
         if (block > EVENT_BLOCK) block = EVENT_BLOCK;
         memcpy(start, h->y, sizeof(double) * (size_t)h->dim);
         for (long k = 0; k < block; k++)
-            s->step(s, h->lat, h->y, h->n_dev, dt);
+            fpl_split_step(s, &run->sys, h->y, dt);
         double g_new = event_min(h, h->y, &which);
         if (g_new <= 0.0) {
             /* replay the block one step at a time */
             memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
             for (long k = 0; k < block; k++) {
                 memcpy(start, h->y, sizeof(double) * (size_t)h->dim);
-                s->step(s, h->lat, h->y, h->n_dev, dt);
+                fpl_split_step(s, &run->sys, h->y, dt);
                 g_new = event_min(h, h->y, &which);
                 if (g_new <= 0.0) {
                     memcpy(h->y, start, sizeof(double) * (size_t)h->dim);
@@ -146,42 +157,36 @@ static int split_advance_events(fpl_integrator *h, long n_target, double *work)
 
 static int split_advance(fpl_integrator *h, double t_target, double *y_out)
 {
-    const fpl_splitting *s = h->method->data;
+    split_data *d = h->data;
+    const fpl_split_run *run = &d->run;
+    const fpl_splitting *s = run->scheme;
     const double dt = h->opt.dt;
-    double *backup = h->data;
+    double *backup = d->start;
     const double target = (t_target - h->t0) / dt;
     if (target > 9e18)
         return fpl_error(NULL, FPL_ERR_ARG, "t_target = %g needs more than 9e18 steps of dt = %g",
                          t_target, dt);
     /* Grid index counted from t0, never accumulated: no drift over 1e10 steps. */
     const long n_target = (long)floor(target + 1e-9);
-    if (h->lat->events.n > 0) {
+    if (h->sys->events.n > 0) {
         int st = split_advance_events(h, n_target, y_out);
         if (st) return st;
     }
-    while (h->n_steps < n_target) {
-        long chunk = n_target - h->n_steps;
-        if (chunk > FINITE_CHECK_INTERVAL) chunk = FINITE_CHECK_INTERVAL;
-        memcpy(backup, h->y, sizeof(double) * (size_t)h->dim);
-        for (long k = 0; k < chunk; k++)
-            s->step(s, h->lat, h->y, h->n_dev, dt);
-        if (!fpl_is_finite_array(h->y, h->dim, NULL)) {
-            memcpy(h->y, backup, sizeof(double) * (size_t)h->dim);
-            return fpl_error(NULL, FPL_ERR_NONFINITE,
-                             "state became non-finite between t = %.10g and t = %.10g "
-                             "(blow-up, or dt = %g too large)",
-                             h->t, h->t0 + (double)(h->n_steps + chunk) * dt, dt);
-        }
-        h->n_steps += chunk;
-        h->n_force += chunk * s->n_kicks;
-        h->t = h->t0 + (double)h->n_steps * dt;
-    }
+    const long start = h->n_steps;
+    long bad = 0;
+    int st = fpl_split_grid_advance(s, &run->sys, h->y, backup, &h->n_steps, n_target, dt, &bad);
+    h->n_force += (h->n_steps - start) * s->n_kicks;
+    if (h->n_steps != start) h->t = h->t0 + (double)h->n_steps * dt;
+    if (st)
+        return fpl_error(NULL, FPL_ERR_NONFINITE,
+                         "state became non-finite between t = %.10g and t = %.10g "
+                         "(blow-up, or dt = %g too large)", h->t, h->t0 + (double)bad * dt, dt);
     memcpy(y_out, h->y, sizeof(double) * (size_t)h->dim);
     const double rest = t_target - h->t;
     if (rest > 1e-9 * dt) {
-        s->step(s, h->lat, y_out, h->n_dev, rest);
+        fpl_split_step(s, &run->sys, y_out, rest);
         h->n_force += s->n_kicks;
-        if (h->lat->events.n > 0) {
+        if (h->sys->events.n > 0) {
             int which;
             if (event_min(h, y_out, &which) <= 0.0) {
                 memcpy(backup, h->y, sizeof(double) * (size_t)h->dim);

@@ -72,7 +72,7 @@ static int sprk_init(fpl_integrator *h)
                                   h->method->name);
     if ((flag = SPRKStepSetMethodName(d->mem, m->table)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "SPRKStepSetMethodName", flag);
-    if ((flag = FPL_ARK(SPRKStep, SetUserData)(d->mem, h->lat)) != ARK_SUCCESS)
+    if ((flag = FPL_ARK(SPRKStep, SetUserData)(d->mem, h->sys)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "SPRKStepSetUserData", flag);
     if ((flag = FPL_ARK(SPRKStep, SetFixedStep)(d->mem, h->opt.dt)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "SPRKStepSetFixedStep", flag);
@@ -81,7 +81,7 @@ static int sprk_init(fpl_integrator *h)
     if (h->opt.compensated_sums &&
         (flag = SPRKStepSetUseCompensatedSums(d->mem, SUNTRUE)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "SPRKStepSetUseCompensatedSums", flag);
-    const int n_events = fpl_lattice_event_count(h->lat);
+    const int n_events = fpl_system_event_count(h->sys);
     if (n_events > 0) {
         int dirs[8];
         for (int i = 0; i < n_events; i++) dirs[i] = -1;

@@ -190,7 +190,7 @@ static int check_options(const fpl_chaos_options *o, double t0)
 
 struct fpl_chaos {
     fpl_integrator *h;
-    fpl_lattice *lattice;
+    const fpl_lattice *lattice;
     fpl_chaos_options opt;
     double t0, T, t_first;
     long len, n_renorm;
@@ -217,7 +217,7 @@ void fpl_chaos_free(fpl_chaos **cp)
     *cp = NULL;
 }
 
-int fpl_chaos_create(fpl_lattice *lattice, const char *method,
+int fpl_chaos_create(const fpl_lattice *lattice, const char *method,
                      const fpl_integrator_options *integrator_options, double t0, const double *y0,
                      const double *w0, const fpl_chaos_options *opt, fpl_chaos **out)
 {
@@ -347,12 +347,12 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
         double t = m == c->n_renorm ? c->opt.t_end : c->t0 + (double)m * tau;
         if (t > t_until) break;
         st = fpl_integrator_advance(c->h, t, y);
-        if (st == FPL_EVENT) {            /* a stopping criterion attached to the lattice */
+        if (st == FPL_EVENT) {            /* a stopping criterion (integrator_options->events) */
             int index = 0;
             double t_event = t;
             fpl_integrator_event(c->h, &index, &t_event);
             return blew_up(c, t_event, "blow-up: stopping criterion '%s' fired at t = %.10g",
-                           fpl_lattice_event_describe(c->lattice, index), t_event);
+                           fpl_integrator_event_describe(c->h, index), t_event);
         }
         if (st == FPL_ERR_NONFINITE)      /* the orbit itself overflowed within this interval */
             return blew_up(c, t, "blow-up: the state became non-finite before t = %.10g (%s)", t,
@@ -463,7 +463,7 @@ int fpl_chaos_restore(fpl_chaos *c, const double *acc)
     return FPL_OK;
 }
 
-int fpl_chaos_run(fpl_lattice *lattice, const char *method,
+int fpl_chaos_run(const fpl_lattice *lattice, const char *method,
                   const fpl_integrator_options *integrator_options, double t0, const double *y0,
                   const double *w0, const fpl_chaos_options *opt, double *t_out, double *mle_out,
                   double *sali_out, double *gali_out, fpl_chaos_result *result)

@@ -35,9 +35,12 @@ struct fpl_chaos_batch {
     double stretch_limit;    /* blow-up check at each renormalisation (0: none) */
     long n_renorm, n_steps, m;
     const fpl_splitting *scheme;
-    fpl_lattice **lat;
-    fpl_chaos_batch_options opt;
-    fpl_event_set ev;
+    const fpl_lattice **lat;
+    fpl_chaos_options opt;   /* the per-lane options (fpl_chaos_batch_options.chaos) */
+    int compact;
+    fpl_event_set ev;        /* the criteria of integrator_options->events */
+    char ev_desc[8][96];
+    fpl_work *work;          /* lone lanes (run_lone) and the criteria of initial states */
     int n_active;            /* running lanes */
     int *orbit_of_slot;      /* S entries, -1 for an empty slot */
     int *slot_of_orbit;      /* R entries, -1 once finished (compact mode) */
@@ -62,18 +65,8 @@ struct fpl_chaos_batch {
 void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt)
 {
     if (!opt) return;
-    fpl_chaos_options c;              /* one set of defaults for both chaos handles */
-    fpl_chaos_options_init(&c);
     memset(opt, 0, sizeof *opt);
-    opt->t_end = c.t_end;
-    opt->renorm_interval = c.renorm_interval;
-    opt->n_samples = c.n_samples;
-    opt->t_first_sample = c.t_first_sample;
-    opt->n_dev = c.n_dev;
-    opt->sali_threshold = c.sali_threshold;
-    opt->stop_when_chaotic = c.stop_when_chaotic;
-    opt->seed = c.seed;
-    opt->blowup_stretch = c.blowup_stretch;
+    fpl_chaos_options_init(&opt->chaos);  /* one set of defaults for both chaos handles */
     opt->compact = 1;
 }
 
@@ -221,7 +214,8 @@ FPL_INLINE void kick_drift_group(const fpl_chaos_batch *B, grp G, double h, doub
     kick_drift_particle(B, G, n, 2, h, hd, model, k, &fprev, dprev);
 }
 
-/* One step of the scheme (splitting.c: fpl_step_aba) for one group. */
+/* One step of the scheme (splitting.c: fpl_split_step on the lattice's kinetic split) for one
+ * group. */
 FPL_INLINE void step_group(const fpl_chaos_batch *B, grp G, double dt, int model, int k)
 {
     const fpl_splitting *sch = B->scheme;
@@ -493,7 +487,7 @@ static void finish_lane(fpl_chaos_batch *B, int o, const double *src)
  * first n_active slots. */
 static void compact(fpl_chaos_batch *B)
 {
-    if (!B->opt.compact) return;
+    if (!B->compact) return;
     for (int s = 0; s < B->S; s++) {
         int o = B->orbit_of_slot[s];
         if (o >= 0 && B->res[o].done) {
@@ -529,18 +523,19 @@ static void compact(fpl_chaos_batch *B)
 static void run_lone(fpl_chaos_batch *B, double *y, int s, long nsteps, double dt, int check)
 {
     const int o = B->orbit_of_slot[s];
-    fpl_lattice *lat = B->lat[o];
     const fpl_splitting *sch = B->scheme;
+    fpl_split_run run;                /* kinetic-drift schemes: no state, nothing allocated */
+    fpl_split_run_init(&run, sch, B->lat[o], B->work, B->k);
     double *ly = B->lane_y;
     slot_get(B, y, s, ly);
     for (long done = 0; done < nsteps;) {
         long block = B->ev.n > 0 && check ? (nsteps - done < EVENT_BLOCK ? nsteps - done : EVENT_BLOCK)
                                           : nsteps - done;
-        for (long i = 0; i < block; i++) sch->step(sch, lat, ly, B->k, dt);
+        for (long i = 0; i < block; i++) fpl_split_step(sch, &run.sys, ly, dt);
         done += block;
         if (B->ev.n > 0 && check && !B->fired[s]) {
             double g[8];
-            fpl_events_eval(lat, ly, g);
+            fpl_events_eval(run.lc.lat, B->work, &B->ev, ly, g);
             for (int c = 0; c < B->ev.n; c++)
                 if (!(g[c] > 0.0)) {
                     B->fired[s] = 1;
@@ -611,6 +606,7 @@ static void blowup_lane(fpl_chaos_batch *B, int o, int s, long n_start, double t
         fpl_integrator_options io;
         fpl_integrator_options_init(&io);
         io.dt = B->dt;
+        io.events = &B->ev;
         fpl_integrator *h = NULL;
         int st = fpl_integrator_create(B->lat[o], B->scheme->name, B->k, &io, t_start, B->lane_y, &h);
         if (st == FPL_OK) {
@@ -622,7 +618,7 @@ static void blowup_lane(fpl_chaos_batch *B, int o, int s, long n_start, double t
                 r->event_index = idx;
                 r->t_blowup = tev;
                 snprintf(B->msg[o], MSG_LEN, "blow-up: stopping criterion '%s' fired at t = %.10g",
-                         fpl_lattice_event_describe(B->lat[o], idx), tev);
+                         B->ev_desc[idx], tev);
             } else if (st == FPL_ERR_NONFINITE) {
                 snprintf(B->msg[o], MSG_LEN, "blow-up: the state became non-finite before t = %.10g "
                          "(%s)", t_interval, fpl_last_error());
@@ -675,6 +671,7 @@ void fpl_chaos_batch_free(fpl_chaos_batch **bp)
     if (!bp || !*bp) return;
     fpl_chaos_batch *B = *bp;
     free(B->lat);
+    fpl_work_free(&B->work);
     free(B->orbit_of_slot);
     free(B->slot_of_orbit);
     free(B->y);
@@ -710,22 +707,14 @@ void fpl_chaos_batch_free(fpl_chaos_batch **bp)
     *bp = NULL;
 }
 
-static int same_events(const fpl_event_set *a, const fpl_event_set *b)
-{
-    if (a->n != b->n) return 0;
-    for (int i = 0; i < a->n; i++)
-        if (a->kind[i] != b->kind[i] || a->threshold[i] != b->threshold[i] || a->mode[i] != b->mode[i])
-            return 0;
-    return 1;
-}
-
 static int check_args(fpl_lattice *const *lattices, int R, const char *method,
                       const fpl_integrator_options *io, double t0, const double *y0,
-                      const fpl_chaos_batch_options *o, const fpl_splitting **scheme, double *dt)
+                      const fpl_chaos_batch_options *bo, const fpl_splitting **scheme, double *dt)
 {
     if (R < 1) return fpl_error(NULL, FPL_ERR_ARG, "n_orbits must be >= 1 (got %d)", R);
     if (!lattices) return fpl_error(NULL, FPL_ERR_ARG, "lattices: NULL pointer");
-    if (!o) return fpl_error(NULL, FPL_ERR_ARG, "opt: NULL options");
+    if (!bo) return fpl_error(NULL, FPL_ERR_ARG, "opt: NULL options");
+    const fpl_chaos_options *o = &bo->chaos;
     if (!y0) return fpl_error(NULL, FPL_ERR_ARG, "y0: NULL pointer");
     for (int r = 0; r < R; r++) {
         const fpl_lattice *l = lattices[r], *l0 = lattices[0];
@@ -740,20 +729,19 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
         if (l->alpha != l0->alpha || l->beta != l0->beta)
             return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: alpha, beta = %g, %g differ from "
                              "lattices[0] (%g, %g)", r, l->alpha, l->beta, l0->alpha, l0->beta);
-        if (!same_events(&l->events, &l0->events))
-            return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: its stopping criteria differ from "
-                             "those of lattices[0] (a batch checks one set)", r);
     }
-    const fpl_event_set *ev = &lattices[0]->events;
-    for (int i = 0; i < ev->n; i++)
+    const fpl_event_set *ev = io ? io->events : NULL;
+    int st = fpl_events_check(ev, lattices[0]->n);
+    if (st) return st;
+    for (int i = 0; ev && i < ev->n; i++)
         if (ev->kind[i] == FPL_EVENT_MODE_ENERGY)
-            return fpl_error(NULL, FPL_ERR_ARG, "lattices[0]: criterion %d (mode energy) is not "
+            return fpl_error(NULL, FPL_ERR_ARG, "events: criterion %d (mode energy) is not "
                              "supported by the batch kernel (use stretch, displacement or energy)", i);
     if (!method) return fpl_error(NULL, FPL_ERR_ARG, "method: NULL name");
     const fpl_splitting *sch = NULL;
     for (int i = 0; i < fpl_splitting_count(); i++)
         if (strcmp(fpl_splitting_at(i)->name, method) == 0) sch = fpl_splitting_at(i);
-    if (!sch || sch->step != fpl_step_aba || sch->prepare) {
+    if (!sch || sch->run_setup) {
         int order, adaptive;
         int known = fpl_method_info(method, &order, &adaptive) == FPL_OK;
         return fpl_error(NULL, known ? FPL_ERR_ARG : FPL_ERR_UNKNOWN,
@@ -818,7 +806,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     double dt = 0.0;
     int st = check_args(lattices, R, method, io, t0, y0, opt, &scheme, &dt);
     if (st) return st;
-    const int n = lattices[0]->n, k = opt->n_dev, len = 2 * n;
+    const int n = lattices[0]->n, k = opt->chaos.n_dev, len = 2 * n;
     long bad;
     if (!fpl_is_finite_array(y0, (long)R * len, &bad))
         return fpl_error(NULL, FPL_ERR_ARG, "y0[%ld][%ld] is not finite", bad / len, bad % len);
@@ -837,17 +825,24 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     B->beta = lattices[0]->beta;
     B->dt = dt;
     B->t0 = t0;
-    B->T = opt->t_end - t0;
-    B->tau = opt->renorm_interval;
-    B->t_first = opt->t_first_sample > 0.0 ? opt->t_first_sample : fmin(opt->renorm_interval, B->T);
-    B->n_renorm = (long)ceil(B->T / opt->renorm_interval - 1e-9);
+    B->T = opt->chaos.t_end - t0;
+    B->tau = opt->chaos.renorm_interval;
+    B->t_first = opt->chaos.t_first_sample > 0.0 ? opt->chaos.t_first_sample : fmin(opt->chaos.renorm_interval, B->T);
+    B->n_renorm = (long)ceil(B->T / opt->chaos.renorm_interval - 1e-9);
     B->scheme = scheme;
-    B->opt = *opt;
-    B->ev = lattices[0]->events;
-    B->stretch_limit = opt->blowup_stretch > 0 ? opt->blowup_stretch
-                     : opt->blowup_stretch == 0 && B->alpha > 0 ? 1.0 / B->alpha : 0.0;
+    B->opt = opt->chaos;
+    B->compact = opt->compact;
+    if (io && io->events) B->ev = *io->events;
+    for (int i = 0; i < B->ev.n; i++)
+        fpl_events_describe(&B->ev, i, B->ev_desc[i], sizeof B->ev_desc[i]);
+    B->stretch_limit = opt->chaos.blowup_stretch > 0 ? opt->chaos.blowup_stretch
+                     : opt->chaos.blowup_stretch == 0 && B->alpha > 0 ? 1.0 / B->alpha : 0.0;
     const size_t S = (size_t)B->S, dim = (size_t)len * (k + 1) * S;
     ALLOC(B->lat, R);
+    if (fpl_work_create(n, 0, &B->work) != FPL_OK) {
+        fpl_chaos_batch_free(&B);
+        return FPL_ERR_NOMEM;
+    }
     ALLOC(B->orbit_of_slot, S);
     ALLOC(B->slot_of_orbit, R);
     ALLOC(B->y, dim);
@@ -893,7 +888,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     if (!w0) {
         gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
         if (!rng) { fpl_chaos_batch_free(&B); return fpl_error(NULL, FPL_ERR_NOMEM, "RNG"); }
-        gsl_rng_set(rng, opt->seed);
+        gsl_rng_set(rng, opt->chaos.seed);
         for (long i = 0; i < (long)len * k; i++) random[i] = gsl_ran_gaussian(rng, 1.0);
         gsl_rng_free(rng);
     }
@@ -925,7 +920,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     if (B->ev.n > 0) {
         double g[8];
         for (int r = 0; r < R; r++) {
-            fpl_events_eval(lattices[r], y0 + (size_t)r * len, g);
+            fpl_events_eval(lattices[r], B->work, &B->ev, y0 + (size_t)r * len, g);
             for (int i = 0; i < B->ev.n; i++) {
                 if (g[i] <= 0.0 && !B->res[r].done) {
                     B->res[r].blew_up = 1;
@@ -934,7 +929,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
                     B->res[r].t_blowup = t0;
                     snprintf(B->msg[r], MSG_LEN, "blow-up: stopping criterion '%s' fired at t = %.10g "
                              "(the initial state)",
-                             fpl_lattice_event_describe(lattices[r], i), t0);
+                             B->ev_desc[i], t0);
                     finish_lane(B, r, B->y);
                 }
             }
@@ -1180,9 +1175,10 @@ int fpl_chaos_batch_restore(fpl_chaos_batch *B, const double *buf, long len)
         r->blowup_reason = (int)p[12]; r->event_index = (int)p[13]; r->steps = (long)p[14];
         r->done = p[15] != 0;
         B->msg[o][0] = '\0';
-        if (r->blew_up && r->blowup_reason == FPL_BATCH_BLOWUP_EVENT && r->event_index >= 0)
+        if (r->blew_up && r->blowup_reason == FPL_BATCH_BLOWUP_EVENT && r->event_index >= 0 &&
+            r->event_index < B->ev.n)
             snprintf(B->msg[o], MSG_LEN, "blow-up: stopping criterion '%s' fired at t = %.10g",
-                     fpl_lattice_event_describe(B->lat[o], r->event_index), r->t_blowup);
+                     B->ev_desc[r->event_index], r->t_blowup);
         else if (r->blew_up && r->blowup_reason == FPL_BATCH_BLOWUP_STRETCH)
             snprintf(B->msg[o], MSG_LEN, "blow-up: a bond stretch |x_{j+1} - x_j| exceeded %.4g at "
                      "t = %.10g", B->stretch_limit, r->t_blowup);

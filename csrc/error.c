@@ -26,19 +26,13 @@ const char *fpl_status_name(int status)
     }
 }
 
-int fpl_error(fpl_lattice *lattice, int status, const char *fmt, ...)
+int fpl_error(char *handle_msg, int status, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(last_error, sizeof last_error, fmt, ap);
     va_end(ap);
-    if (lattice)
-        memcpy(lattice->errmsg, last_error, sizeof last_error);
+    if (handle_msg)
+        memcpy(handle_msg, last_error, sizeof last_error);
     return status;
-}
-
-void fpl_error_clear(fpl_lattice *lattice)
-{
-    if (lattice)
-        lattice->errmsg[0] = '\0';
 }

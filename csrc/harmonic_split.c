@@ -10,7 +10,7 @@
  * The split applies when the linear part is exactly the homogeneous chain: cl = s = minv = 1,
  * i.e. model 1, and model 3 (disorder in the nonlinear couplings only; there B is not a
  * gradient but the composition is still a consistent order-p scheme for x'' = F(x)). Model 2's
- * linear couplings vary: refused by the prepare hook.
+ * linear couplings vary: refused by the run_setup hook.
  *
  * How A is computed: as three shears, all in real space,
  *   x += T(K) p,   p -= S(K) x,   x += T(K) p,
@@ -36,23 +36,30 @@
 #define MAX_DRIFTS 16
 #define MAX_DEGREE 32
 
-/* Owned by the lattice (lat->harm), which only frees it. */
-typedef struct fpl_harmonic_cache {
-    const fpl_splitting *scheme; /* coefficients are for this scheme and dt */
+/* The scheme's state (fpl_split_run.state), owned by the run: the Chebyshev coefficients of
+ * the drifts for one dt, and scratch. */
+static void harmonic_drift(void *ctx, double *y, int stage, double h);
+static void harmonic_kick(void *ctx, double *y, double h);
+static void harmonic_begin_step(void *ctx, const fpl_splitting *scheme, double dt);
+
+typedef struct fpl_harmonic_state {
+    const fpl_splitting *scheme; /* coefficients are for this scheme and dt (scheme NULL: none) */
     double dt;
     int reps;                    /* sub-rotations per drift */
     int deg[MAX_DRIFTS][2];      /* degrees of T and S per drift */
     double coef[MAX_DRIFTS][2][MAX_DEGREE + 1];
-} fpl_harmonic_cache;
+    double *work;                /* 4N scratch */
+} fpl_harmonic_state;
 
 /* The scratch does not depend on the number of deviation vectors: they are processed one at a
  * time. */
-int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat)
+int fpl_harmonic_run_setup(const fpl_splitting *scheme, fpl_split_run *run)
 {
+    const fpl_lattice *lat = run->lc.lat;
     const int n = lat->n;
     for (int j = 0; j < n; j++) {
         if (lat->cl[j] != 1.0 || lat->s[j] != 1.0 || lat->minv[j] != 1.0)
-            return fpl_error(lat, FPL_ERR_ARG,
+            return fpl_error(NULL, FPL_ERR_ARG,
                              "method '%s' integrates the harmonic chain exactly, which needs "
                              "uniform linear couplings and masses (models 'homogeneous' and "
                              "'nonlinear'); this '%s' lattice has v[%d] = %g in its linear part: "
@@ -60,20 +67,29 @@ int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat)
                              scheme->name, lat->ops->name, j, lat->v[j]);
     }
     if (scheme->n_kicks + 1 > MAX_DRIFTS)
-        return fpl_error(lat, FPL_ERR_ARG, "method '%s': %d drifts, at most %d supported",
+        return fpl_error(NULL, FPL_ERR_ARG, "method '%s': %d drifts, at most %d supported",
                          scheme->name, scheme->n_kicks + 1, MAX_DRIFTS);
-    if (!lat->harm) {
-        lat->harm = calloc(1, sizeof *lat->harm);
-        lat->harmwork = malloc(sizeof(double) * 4 * (size_t)n);
-        if (!lat->harm || !lat->harmwork) {
-            free(lat->harm);
-            free(lat->harmwork);
-            lat->harm = NULL;
-            lat->harmwork = NULL;
-            return fpl_error(lat, FPL_ERR_NOMEM, "out of memory (harmonic split, N = %d)", n);
-        }
+    fpl_harmonic_state *hs = calloc(1, sizeof *hs);
+    double *work = malloc(sizeof(double) * 4 * (size_t)n);
+    if (!hs || !work) {
+        free(hs);
+        free(work);
+        return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (harmonic split, N = %d)", n);
     }
+    hs->work = work;
+    run->state = hs;
+    run->sys.drift = harmonic_drift;
+    run->sys.kick = harmonic_kick;
+    run->sys.begin_step = harmonic_begin_step;
     return FPL_OK;
+}
+
+void fpl_harmonic_state_free(void *state)
+{
+    fpl_harmonic_state *hs = state;
+    if (!hs) return;
+    free(hs->work);
+    free(hs);
 }
 
 /* Chebyshev coefficients on lambda in [0, 4] (x = lambda/2 - 1) of T (which = 0) or S (1) for
@@ -106,9 +122,8 @@ static int chebyshev(int which, double h, double *coef)
 
 /* Coefficients for every drift of the scheme at step dt, recomputed only when dt or the scheme
  * changes (a run keeps one dt; an event search or an off-grid sample pays ~1e3 cosines). */
-static void prepare_step(const fpl_splitting *scheme, fpl_lattice *lat, double dt)
+static void prepare_step(const fpl_splitting *scheme, fpl_harmonic_state *hc, double dt)
 {
-    fpl_harmonic_cache *hc = lat->harm;
     if (hc->scheme == scheme && hc->dt == dt) return;
     double a_max = 0.0;
     for (int i = 0; i <= scheme->n_kicks; i++) a_max = fmax(a_max, fabs(scheme->drift[i]));
@@ -166,11 +181,9 @@ FPL_HOT static void axpy(int n, double a, const double *restrict x, double *rest
 }
 
 /* A-flow of drift i on the orbit and every deviation vector. */
-static void rotate(fpl_lattice *lat, double *y, int n_dev, int i)
+static void rotate(const fpl_harmonic_state *hc, int n, double *y, int n_dev, int i)
 {
-    const int n = lat->n;
-    const fpl_harmonic_cache *hc = lat->harm;
-    double *tmp = lat->harmwork, *work = tmp + n;
+    double *tmp = hc->work, *work = tmp + n;
     const double *ct = hc->coef[i][0], *cs = hc->coef[i][1];
     const int dt_ = hc->deg[i][0], ds = hc->deg[i][1];
     for (int m = 0; m <= n_dev; m++) {
@@ -186,28 +199,33 @@ static void rotate(fpl_lattice *lat, double *y, int n_dev, int i)
     }
 }
 
-/* B-kick: p += h F_anh(x); deviation vectors dp += h J_anh(x) dx. */
-static void kick(fpl_lattice *lat, double *y, int n_dev, double h)
+/* The drift of stage i (h is drift[i] dt of the step that begin_step prepared). */
+static void harmonic_drift(void *ctx, double *y, int stage, double h)
 {
-    const int n = lat->n;
-    double *f = lat->harmwork;
-    fpl_kernel_anharmonic_force(lat, y, f);
+    (void)h;
+    const fpl_split_run *run = ctx;
+    rotate(run->state, run->lc.lat->n, y, run->lc.n_dev, stage);
+}
+
+static void harmonic_begin_step(void *ctx, const fpl_splitting *scheme, double dt)
+{
+    const fpl_split_run *run = ctx;
+    prepare_step(scheme, run->state, dt);
+}
+
+/* B-kick: p += h F_anh(x); deviation vectors dp += h J_anh(x) dx. */
+static void harmonic_kick(void *ctx, double *y, double h)
+{
+    const fpl_split_run *run = ctx;
+    const fpl_lattice *lat = run->lc.lat;
+    fpl_work *work = run->lc.work;
+    double *f = ((fpl_harmonic_state *)run->state)->work;
+    const int n = lat->n, n_dev = run->lc.n_dev;
+    fpl_kernel_anharmonic_force(lat, work, y, f);
     axpy(n, h, f, y + n);
     for (int m = 1; m <= n_dev; m++) {
         double *dx = y + 2 * (size_t)n * m;
-        fpl_kernel_anharmonic_tangent(lat, dx, f);
+        fpl_kernel_anharmonic_tangent(lat, work, dx, f);
         axpy(n, h, f, dx + n);
     }
-}
-
-void fpl_step_harmonic(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
-                       double dt)
-{
-    const int s = scheme->n_kicks;
-    prepare_step(scheme, lat, dt);
-    for (int i = 0; i < s; i++) {
-        rotate(lat, y, n_dev, i);
-        kick(lat, y, n_dev, scheme->kick[i] * dt);
-    }
-    rotate(lat, y, n_dev, s);
 }

@@ -95,6 +95,7 @@ void fpl_integrator_options_init(fpl_integrator_options *opt)
     opt->atol = 1e-12;
     opt->max_steps = 0;
     opt->compensated_sums = 0;
+    opt->events = NULL;
 }
 
 /* Record an error on the integrator handle (the thread-local message is set by fpl_error). */
@@ -107,7 +108,7 @@ static int fail(fpl_integrator *h, int status)
     return status;
 }
 
-int fpl_integrator_create(fpl_lattice *lattice, const char *method, int n_dev,
+int fpl_integrator_create(const fpl_lattice *lattice, const char *method, int n_dev,
                           const fpl_integrator_options *opt, double t0, const double *y0,
                           fpl_integrator **out)
 {
@@ -142,9 +143,17 @@ int fpl_integrator_create(fpl_lattice *lattice, const char *method, int n_dev,
     if (!fpl_is_finite_array(y0, dim, &bad))
         return fpl_error(NULL, FPL_ERR_ARG, "y0[%ld] is not finite (%g)", bad, y0[bad]);
 
+    fpl_system *sys = NULL;
+    int st = fpl_system_create(lattice, o.events, &sys);
+    if (st) return st;
+    o.events = NULL; /* copied into sys; the caller's set need not outlive the call */
     fpl_integrator *h = calloc(1, sizeof *h);
-    if (!h) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating the integrator");
+    if (!h) {
+        fpl_system_free(&sys);
+        return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating the integrator");
+    }
     h->lat = lattice;
+    h->sys = sys;
     h->method = m;
     h->n_dev = n_dev;
     h->dim = dim;
@@ -157,7 +166,7 @@ int fpl_integrator_create(fpl_lattice *lattice, const char *method, int n_dev,
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (state of length %ld)", dim);
     }
     memcpy(h->y, y0, sizeof(double) * (size_t)dim);
-    int st = m->backend->init(h);
+    st = m->backend->init(h);
     if (st) {
         fpl_integrator_free(&h);
         return st;
@@ -173,6 +182,7 @@ void fpl_integrator_free(fpl_integrator **integrator)
     if (h->data && h->method->backend->release) h->method->backend->release(h);
     free(h->y);
     free(h->scratch);
+    fpl_system_free(&h->sys);
     free(h);
     *integrator = NULL;
 }
@@ -205,18 +215,34 @@ int fpl_integrator_event(const fpl_integrator *h, int *index, double *t)
     return h->stopped;
 }
 
+int fpl_integrator_event_count(const fpl_integrator *h) { return h ? h->sys->events.n : 0; }
+
+const char *fpl_integrator_event_describe(const fpl_integrator *h, int index)
+{
+    return h ? fpl_system_event_describe(h->sys, index) : "";
+}
+
+int fpl_integrator_events_eval(fpl_integrator *h, const double *y, double *g)
+{
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    h->errmsg[0] = '\0';
+    if (!y || !g) return fail(h, fpl_error(NULL, FPL_ERR_ARG, "y/g: NULL pointer"));
+    fpl_events_eval(h->lat, h->sys->work, &h->sys->events, y, g);
+    return FPL_OK;
+}
+
 /* Advance through the back end; after an event the integrator stays where it stopped. */
 static int backend_advance(fpl_integrator *h, double t_target, double *y_out)
 {
     if (h->stopped)
         return fpl_error(NULL, FPL_ERR_ARG, "the integrator was stopped by an event (%s) at t = %.17g",
-                         fpl_lattice_event_describe(h->lat, h->event_index), h->t);
+                         fpl_system_event_describe(h->sys, h->event_index), h->t);
     int st = h->method->backend->advance(h, t_target, y_out);
     if (st == FPL_EVENT) {
         h->stopped = 1;
         memcpy(y_out, h->y, sizeof(double) * (size_t)h->dim);
         fpl_error(NULL, FPL_EVENT, "event: %s at t = %.17g",
-                  fpl_lattice_event_describe(h->lat, h->event_index), h->t);
+                  fpl_system_event_describe(h->sys, h->event_index), h->t);
     }
     return st;
 }
@@ -314,7 +340,8 @@ int fpl_integrator_sample(fpl_integrator *h, const double *t_samples, int n_samp
         st = backend_advance(h, t_samples[i], y);
         if (st != 0) return fail(h, st);
         double *ek = mode_energies ? mode_energies + (size_t)i * n : NULL;
-        if (ek && (st = fpl_modes_energies(h->lat, y, ek)) != 0) return fail(h, st);
+        if (ek && (st = fpl_modes_energies_work(h->lat, h->sys->work, y, ek)) != 0)
+            return fail(h, st);
         double e = 0.0;
         if (energies) e = h->lat->ops->energy(h->lat, y);
         /* a finite but huge state can still overflow its energies */

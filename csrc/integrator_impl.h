@@ -28,7 +28,9 @@ typedef struct fpl_method {
 } fpl_method;
 
 struct fpl_integrator {
-    fpl_lattice *lat;
+    const fpl_lattice *lat;
+    fpl_system *sys;                          /* {lattice, criteria (opt.events), workspace}: the
+                                                 SUNDIALS back ends' user_data */
     const fpl_method *method;
     int n_dev;
     long dim;                                 /* 2N(1 + n_dev) */
@@ -36,11 +38,11 @@ struct fpl_integrator {
     double t;                                 /* time of y */
     double *y;                                /* internal state, dim */
     double *scratch;                          /* dim, for samples off the internal time */
-    fpl_integrator_options opt;
+    fpl_integrator_options opt;               /* opt.events is NULL: the criteria are in sys */
     long n_steps, n_force;
     void *data;                               /* back-end private */
     int stopped;                              /* an event fired: h->y, h->t are the event */
-    int event_index;                          /* which criterion (lattice events) */
+    int event_index;                          /* which criterion (index into sys->events) */
     char errmsg[FPL_ERRMSG_LEN];
 };
 

@@ -20,27 +20,49 @@
 #define FPL_HOT
 #endif
 
-/* Record an error (thread-local, and on the handle if one is given) and return status. */
-int fpl_error(fpl_lattice *lattice, int status, const char *fmt, ...)
+/* Record an error (thread-local, and in the handle's message buffer `handle_msg` of
+ * FPL_ERRMSG_LEN chars if not NULL) and return status. */
+int fpl_error(char *handle_msg, int status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
-/* Clear the handle's message at the start of a call. */
-void fpl_error_clear(fpl_lattice *lattice);
+
+/* Scratch of the kernels for one lattice size, owned by whoever runs (an integrator, a chaos or
+ * batch handle, a Galerkin handle, an fpl_system). The lattice itself is read-only physics, so
+ * one lattice can serve several runs and threads, each with its own workspace. */
+typedef struct fpl_work {
+    int n;
+    double *phi;    /* N+1: bond forces */
+    double *kappa;  /* N+1: bond curvatures dphi/dR - dL/dR part */
+    double *dphi;   /* N+1: tangent bond forces; the velocities in fpl_modes_energies_work */
+    double *fft;    /* 2(N+1) for the sine transform */
+    void *fft_wavetable;  /* NULL unless created with_modes */
+    void *fft_workspace;
+    double *ek;     /* N: mode energies for the event criteria */
+} fpl_work;
+
+/* Allocate a workspace for lattices of N = n (errors via fpl_error); with_modes: also the FFT
+ * tables of the mode transforms (fpl_modes_energies_work, mode-energy criteria). */
+int fpl_work_create(int n, int with_modes, fpl_work **out);
+void fpl_work_free(fpl_work **work);
 
 /* A model is data: per-particle coefficient arrays plus a table of kernels.
  * Bond b = 0..N joins particle b-1 and b (0-based, particles -1 and N are the fixed ends):
  *   L_b = cl[b] x[b] - cl[b-1] x[b-1]   (linear stretch)
  *   R_b = cn[b] x[b] - cn[b-1] x[b-1]   (nonlinear stretch)
  *   phi_b = L_b + alpha R_b^2 + beta R_b^3,   F_i = s[i] (phi_{i+1} - phi_i),   x_i' = minv[i] p_i
- *   model 1: cl = cn = s = minv = 1;  model 2: cl = cn = s = v, minv = 1/v;  model 3: cl = s = minv = 1, cn = v. */
+ * Each model's entry in the table of models.c says how its coefficients follow from v. */
 typedef struct fpl_model_ops {
     int model;
     const char *name;
-    /* p += h F(x) and dp^(m) += h J(x) dx^(m), m < n_dev (y is the full state). */
-    void (*kick)(fpl_lattice *lat, double *y, int n_dev, double h);
+    /* cl, cn, s, minv of particle j from its variability v_j (called once, at lattice create). */
+    void (*coefficients)(double v, double *cl, double *cn, double *s, double *minv);
+    /* p += h F(x) and dp^(m) += h J(x) dx^(m), m < n_dev (y is the full state); ctx is an
+     * fpl_lattice_ctx (the kick of the lattice's fpl_split_system, called directly). */
+    void (*kick)(void *ctx, double *y, double h);
     /* energy of a 2N state */
     double (*energy)(const fpl_lattice *lat, const double *y);
 } fpl_model_ops;
 
+/* Immutable after fpl_lattice_create. */
 struct fpl_lattice {
     int n;
     double alpha, beta;
@@ -50,61 +72,124 @@ struct fpl_lattice {
     double *cn;     /* N */
     double *s;      /* N */
     double *minv;   /* N */
-    double *phi;    /* N+1 scratch: bond forces */
-    double *kappa;  /* N+1 scratch: bond curvatures dphi/dR - dL/dR part */
-    double *dphi;   /* N+1 scratch: tangent bond forces */
-    double *fft;    /* 2(N+1) scratch for the sine transform */
-    void *fft_wavetable;
-    void *fft_workspace;
-    double *ek;     /* N scratch: mode energies for event criteria */
-    /* Harmonic-split schemes (harmonic_split.c), allocated by their prepare hook: */
-    struct fpl_harmonic_cache *harm; /* Chebyshev coefficients of the drifts for one dt (opaque) */
-    double *harmwork;                /* 4N scratch */
-    fpl_event_set events;          /* stopping criteria (events.c) */
+};
+
+/* NULL, or the model's entry. */
+const fpl_model_ops *fpl_model_ops_for(int model);
+/* FPL_ERR_UNKNOWN "model %d is unknown (1 homogeneous, ...)" listing the table. */
+int fpl_model_unknown(int model);
+
+/* Stopping criteria (events.c). */
+/* Validate a set for lattices of size n (message prefixed "events: "). */
+int fpl_events_check(const fpl_event_set *events, int n);
+/* "max |x_{j+1} - x_j| > 4" etc. into buf (96 chars). */
+void fpl_events_describe(const fpl_event_set *events, int index, char *buf, size_t size);
+/* g_i(y) of the criteria, no validation. */
+void fpl_events_eval(const fpl_lattice *lat, fpl_work *work, const fpl_event_set *events,
+                     const double *y, double *g);
+
+/* The {lattice, criteria, workspace} of one run: user_data of the SUNDIALS callbacks, and what
+ * an integrator runs on. */
+struct fpl_system {
+    const fpl_lattice *lat;
+    fpl_event_set events;
     char event_desc[8][96];
+    fpl_work *work;
     char errmsg[FPL_ERRMSG_LEN];
 };
 
-/* g_i(y) of the lattice's criteria, no validation (events.c). */
-void fpl_events_eval(fpl_lattice *lat, const double *y, double *g);
-
-const fpl_model_ops *fpl_model_ops_for(int model);
-
 /* Generic kernels used by the public wrappers (all models). */
-void fpl_kernel_force(fpl_lattice *lat, const double *x, double *f);
-void fpl_kernel_tangent(fpl_lattice *lat, const double *x, int n_dev, const double *dx,
-                        double *df);
+void fpl_kernel_force(const fpl_lattice *lat, fpl_work *work, const double *x, double *f);
+void fpl_kernel_tangent(const fpl_lattice *lat, fpl_work *work, const double *x, int n_dev,
+                        const double *dx, double *df);
 /* Enumerate the non-zeros of the Jacobian of the first-order system with n_dev vectors. */
 typedef void (*fpl_emit_fn)(void *ctx, long row, long col, double value);
-void fpl_kernel_jacobian_entries(fpl_lattice *lat, const double *y, int n_dev, fpl_emit_fn emit,
-                                 void *ctx);
+void fpl_kernel_jacobian_entries(const fpl_lattice *lat, const double *y, int n_dev,
+                                 fpl_emit_fn emit, void *ctx);
 /* y' = f(y) with n_dev vectors, no validation. */
-void fpl_kernel_rhs(fpl_lattice *lat, const double *y, int n_dev, double *ydot);
+void fpl_kernel_rhs(const fpl_lattice *lat, fpl_work *work, const double *y, int n_dev,
+                    double *ydot);
+
+/* Mode energies with a caller's workspace (modes.c). */
+int fpl_modes_energies_work(const fpl_lattice *lat, fpl_work *work, const double *y,
+                            double *energies);
+
+/* What a lattice kick works on: the lattice, the scratch, the number of deviation vectors. */
+typedef struct fpl_lattice_ctx {
+    const fpl_lattice *lat;
+    fpl_work *work;
+    int n_dev;
+} fpl_lattice_ctx;
+
+/* ---- splitting: one second-order system, one step, one grid driver ------------------------ */
+
+/* A system for the drift-kick compositions (as gsl_odeiv2_system, or SPRKStep's f1/f2): a state
+ * y of length dim whose drift advances the positions by the momenta and whose kick advances the
+ * momenta by the forces. The lattice (orbit and deviation vectors, kinetic or harmonic split),
+ * the Galerkin truncation and the two-mode ODE are such systems (splitting.c, harmonic_split.c,
+ * reduction.c). */
+typedef struct fpl_split_system {
+    long dim;
+    /* flow of the drift part for time h; stage = i of the drift coefficient a_i (for systems that
+     * keep per-stage data, the harmonic split) */
+    void (*drift)(void *ctx, double *y, int stage, double h);
+    void (*kick)(void *ctx, double *y, double h);
+    /* optional: called before the stages of each step of dt (the harmonic split's cache) */
+    void (*begin_step)(void *ctx, const fpl_splitting *scheme, double dt);
+    void *ctx;
+} fpl_split_system;
+
+/* One step of dt: drift a_0, kick b_0, drift a_1, ..., kick b_{s-1}, drift a_s. */
+void fpl_split_step(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
+                    double dt);
+
+/* How often (in steps) the grid driver looks for NaN/Inf: a blow-up is caught early, placed in
+ * time, and the state rolled back to the last finite grid state (a copy every chunk costs
+ * ~1/1000 of the work). */
+#define FPL_FINITE_CHECK_INTERVAL 1024
+
+/* The fixed-step grid driver: whole steps of dt take y from grid step *step to n_target, with a
+ * NaN/Inf check every FPL_FINITE_CHECK_INTERVAL steps. On a non-finite state y is put back to the
+ * last finite grid state (backup: dim doubles of scratch), *step is its step, *step_bad the step
+ * at which the non-finite state was found, and FPL_ERR_NONFINITE is returned without a message
+ * (the caller words it); else FPL_OK with *step = n_target. */
+int fpl_split_grid_advance(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
+                           double *backup, long *step, long n_target, double dt, long *step_bad);
+
+typedef struct fpl_split_run fpl_split_run;
 
 /* Splitting schemes: one table per file in csrc/integrators/. */
-typedef void (*fpl_step_fn)(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
-                            double dt);
 struct fpl_splitting {
     const char *name;
     int order;
     int n_kicks;           /* s; there are s+1 drifts */
     const double *drift;   /* a_0..a_s */
     const double *kick;    /* b_0..b_{s-1} */
-    fpl_step_fn step;
-    /* Optional: check that the scheme applies to the lattice and set up what its step needs
-     * (called once per run before any step; the step itself never allocates). */
-    int (*prepare)(const fpl_splitting *scheme, fpl_lattice *lat);
+    /* Optional, for schemes that are not the kinetic drift-kick split of the lattice: set up a
+     * run (check that the scheme applies to the lattice, allocate run->state, replace run->sys by
+     * the scheme's own split), once per run before any step (the step itself never allocates);
+     * state_free frees run->state. */
+    int (*run_setup)(const fpl_splitting *scheme, fpl_split_run *run);
+    void (*state_free)(void *state);
     const char *reference;
 };
-/* Drift-kick composition: A = x += h p/m (kinetic), B = p += h F(x) (whole force). */
-void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev, double dt);
-/* Near-integrable composition (harmonic_split.c): A = exact flow of the harmonic chain (each
- * normal mode rotated by w_k h), B = kick by the anharmonic force only. */
-void fpl_step_harmonic(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev,
-                       double dt);
-int fpl_harmonic_prepare(const fpl_splitting *scheme, fpl_lattice *lat);
-/* Run a scheme's prepare hook, if it has one. */
-int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat);
+
+/* A scheme run on a lattice: its system (by default the kinetic split: drift x += h p/m, kick
+ * p += h F(x), each with the tangent map for the deviation vectors) and the scheme's state. */
+struct fpl_split_run {
+    fpl_lattice_ctx lc;    /* first member: the run is the lattice kicks' ctx */
+    const fpl_splitting *scheme;
+    void *state;           /* from scheme->run_setup, NULL for the kinetic split */
+    fpl_split_system sys;  /* ctx = the run */
+};
+/* Fill run for the lattice with n_dev deviation vectors (errors via fpl_error). */
+int fpl_split_run_init(fpl_split_run *run, const fpl_splitting *scheme, const fpl_lattice *lat,
+                       fpl_work *work, int n_dev);
+void fpl_split_run_release(fpl_split_run *run);
+/* The harmonic split (harmonic_split.c): drift = exact flow of the harmonic chain (each normal
+ * mode rotated by w_k h), kick = the anharmonic force only. */
+int fpl_harmonic_run_setup(const fpl_splitting *scheme, fpl_split_run *run);
+void fpl_harmonic_state_free(void *state);
 
 extern const fpl_splitting fpl_scheme_leapfrog;
 extern const fpl_splitting fpl_scheme_yoshida4;
@@ -112,15 +197,13 @@ extern const fpl_splitting fpl_scheme_aba864;
 extern const fpl_splitting fpl_scheme_aba864_harmonic;
 extern const fpl_splitting fpl_scheme_srkn14a6;
 
-/* Sine-transform workspace owned by the lattice (modes.c). */
-int fpl_modes_alloc(fpl_lattice *lat);
-void fpl_modes_release(fpl_lattice *lat);
-
 /* Anharmonic part of the force (bond forces alpha R^2 + beta R^3, R from cn) for lattices whose
- * linear part is the homogeneous chain; keeps kappa_b = 2 alpha R + 3 beta R^2 in lat->kappa
+ * linear part is the homogeneous chain; keeps kappa_b = 2 alpha R + 3 beta R^2 in work->kappa
  * for fpl_kernel_anharmonic_tangent (df = J_anh(x) dx at the same x). */
-void fpl_kernel_anharmonic_force(fpl_lattice *lat, const double *x, double *f);
-void fpl_kernel_anharmonic_tangent(fpl_lattice *lat, const double *dx, double *df);
+void fpl_kernel_anharmonic_force(const fpl_lattice *lat, fpl_work *work, const double *x,
+                                 double *f);
+void fpl_kernel_anharmonic_tangent(const fpl_lattice *lat, fpl_work *work, const double *dx,
+                                   double *df);
 
 int fpl_is_finite_array(const double *a, long len, long *first_bad);
 

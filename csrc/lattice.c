@@ -1,4 +1,4 @@
-/* Lattice handle: validation, coefficient arrays per model, public evaluation API. */
+/* Lattice handle: validation, coefficient arrays (from the model table), public evaluation API. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,8 +42,7 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
         return fpl_error(NULL, FPL_ERR_ARG, "beta must be finite (got %g)", beta);
     const fpl_model_ops *ops = fpl_model_ops_for(model);
     if (!ops)
-        return fpl_error(NULL, FPL_ERR_UNKNOWN,
-                         "model %d is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)", model);
+        return fpl_model_unknown(model);
     if (v) {
         for (int j = 0; j < n; j++) {
             if (!isfinite(v[j]) || v[j] <= 0.0)
@@ -67,23 +66,13 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
     lat->cn = xcalloc(nn);
     lat->s = xcalloc(nn);
     lat->minv = xcalloc(nn);
-    lat->phi = xcalloc(nn + 1);
-    lat->kappa = xcalloc(nn + 1);
-    lat->dphi = xcalloc(nn + 1);
-    lat->fft = xcalloc(2 * (nn + 1));
-    lat->ek = xcalloc(nn);
-    if (!lat->v || !lat->cl || !lat->cn || !lat->s || !lat->minv || !lat->phi || !lat->kappa ||
-        !lat->dphi || !lat->fft || !lat->ek || fpl_modes_alloc(lat) != 0) {
+    if (!lat->v || !lat->cl || !lat->cn || !lat->s || !lat->minv) {
         fpl_lattice_free(&lat);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating a lattice of N = %d", n);
     }
     for (int j = 0; j < n; j++) {
-        double vj = v ? v[j] : 1.0;
-        lat->v[j] = vj;
-        lat->cl[j] = model == FPL_MODEL_HAMILTONIAN ? vj : 1.0;
-        lat->cn[j] = model == FPL_MODEL_HOMOGENEOUS ? 1.0 : vj;
-        lat->s[j] = model == FPL_MODEL_HAMILTONIAN ? vj : 1.0;
-        lat->minv[j] = model == FPL_MODEL_HAMILTONIAN ? 1.0 / vj : 1.0;
+        lat->v[j] = v ? v[j] : 1.0;
+        ops->coefficients(lat->v[j], &lat->cl[j], &lat->cn[j], &lat->s[j], &lat->minv[j]);
     }
     *out = lat;
     return FPL_OK;
@@ -94,26 +83,19 @@ void fpl_lattice_free(fpl_lattice **lattice)
     if (!lattice || !*lattice)
         return;
     fpl_lattice *lat = *lattice;
-    fpl_modes_release(lat);
     free(lat->v);
     free(lat->cl);
     free(lat->cn);
     free(lat->s);
     free(lat->minv);
-    free(lat->phi);
-    free(lat->kappa);
-    free(lat->dphi);
-    free(lat->fft);
-    free(lat->ek);
-    free(lat->harm);
-    free(lat->harmwork);
     free(lat);
     *lattice = NULL;
 }
 
 const char *fpl_lattice_errmsg(const fpl_lattice *lattice)
 {
-    return lattice ? lattice->errmsg : "lattice: NULL handle";
+    (void)lattice; /* shared and read-only: no message of its own */
+    return fpl_last_error();
 }
 
 int fpl_lattice_size(const fpl_lattice *lattice) { return lattice ? lattice->n : 0; }
@@ -121,20 +103,19 @@ double fpl_lattice_alpha(const fpl_lattice *lattice) { return lattice ? lattice-
 double fpl_lattice_beta(const fpl_lattice *lattice) { return lattice ? lattice->beta : NAN; }
 int fpl_lattice_model(const fpl_lattice *lattice) { return lattice ? lattice->ops->model : 0; }
 
-/* Common argument checks; returns 0 or an error status already recorded. */
+/* Common argument checks; return 0 or an error status already recorded. */
 #define CHECK_LATTICE(lat)                                                                     \
     do {                                                                                       \
         if (!(lat)) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");                \
-        fpl_error_clear(lat);                                                                  \
     } while (0)
-#define CHECK_PTR(lat, ptr)                                                                    \
+#define CHECK_PTR(ptr)                                                                         \
     do {                                                                                       \
-        if (!(ptr)) return fpl_error((lat), FPL_ERR_ARG, #ptr ": NULL pointer");               \
+        if (!(ptr)) return fpl_error(NULL, FPL_ERR_ARG, #ptr ": NULL pointer");                \
     } while (0)
-#define CHECK_NDEV(lat, n_dev)                                                                 \
+#define CHECK_NDEV(n_dev)                                                                      \
     do {                                                                                       \
         if ((n_dev) < 0)                                                                       \
-            return fpl_error((lat), FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", (n_dev));      \
+            return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", (n_dev));       \
     } while (0)
 
 int fpl_lattice_get_v(const fpl_lattice *lattice, double *v, int n)
@@ -147,22 +128,27 @@ int fpl_lattice_get_v(const fpl_lattice *lattice, double *v, int n)
     return FPL_OK;
 }
 
-static int check_finite_input(fpl_lattice *lat, const char *name, const double *a, long len)
+static int check_finite_input(const char *name, const double *a, long len)
 {
     long bad = -1;
     if (!fpl_is_finite_array(a, len, &bad))
-        return fpl_error(lat, FPL_ERR_ARG, "%s[%ld] is not finite (%g)", name, bad, a[bad]);
+        return fpl_error(NULL, FPL_ERR_ARG, "%s[%ld] is not finite (%g)", name, bad, a[bad]);
     return FPL_OK;
 }
 
-int fpl_lattice_force(fpl_lattice *lattice, const double *x, double *force)
+/* The one-shot evaluations below allocate a temporary workspace per call (not for hot loops). */
+
+int fpl_lattice_force(const fpl_lattice *lattice, const double *x, double *force)
 {
     CHECK_LATTICE(lattice);
-    CHECK_PTR(lattice, x);
-    CHECK_PTR(lattice, force);
-    int st = check_finite_input(lattice, "x", x, lattice->n);
+    CHECK_PTR(x);
+    CHECK_PTR(force);
+    int st = check_finite_input("x", x, lattice->n);
+    fpl_work *w = NULL;
+    if (!st) st = fpl_work_create(lattice->n, 0, &w);
     if (st) return st;
-    fpl_kernel_force(lattice, x, force);
+    fpl_kernel_force(lattice, w, x, force);
+    fpl_work_free(&w);
     return FPL_OK;
 }
 
@@ -178,15 +164,15 @@ static void emit_tridiag(void *ctx, long row, long col, double value)
     else if (col == i - 1) c->lower[col] = value;
 }
 
-int fpl_lattice_force_jacobian(fpl_lattice *lattice, const double *x, double *lower, double *diag,
-                               double *upper)
+int fpl_lattice_force_jacobian(const fpl_lattice *lattice, const double *x, double *lower,
+                               double *diag, double *upper)
 {
     CHECK_LATTICE(lattice);
-    CHECK_PTR(lattice, x);
-    CHECK_PTR(lattice, lower);
-    CHECK_PTR(lattice, diag);
-    CHECK_PTR(lattice, upper);
-    int st = check_finite_input(lattice, "x", x, lattice->n);
+    CHECK_PTR(x);
+    CHECK_PTR(lower);
+    CHECK_PTR(diag);
+    CHECK_PTR(upper);
+    int st = check_finite_input("x", x, lattice->n);
     if (st) return st;
     /* Read the tridiagonal off the p-rows of the first-order Jacobian (orbit block only). */
     struct tridiag_ctx c = {lattice->n, lower, diag, upper};
@@ -194,31 +180,37 @@ int fpl_lattice_force_jacobian(fpl_lattice *lattice, const double *x, double *lo
     return FPL_OK;
 }
 
-int fpl_lattice_tangent_force(fpl_lattice *lattice, const double *x, int n_dev, const double *dx,
-                              double *dforce)
+int fpl_lattice_tangent_force(const fpl_lattice *lattice, const double *x, int n_dev,
+                              const double *dx, double *dforce)
 {
     CHECK_LATTICE(lattice);
-    CHECK_PTR(lattice, x);
-    CHECK_NDEV(lattice, n_dev);
+    CHECK_PTR(x);
+    CHECK_NDEV(n_dev);
     if (n_dev == 0) return FPL_OK;
-    CHECK_PTR(lattice, dx);
-    CHECK_PTR(lattice, dforce);
-    int st = check_finite_input(lattice, "x", x, lattice->n);
-    if (!st) st = check_finite_input(lattice, "dx", dx, (long)lattice->n * n_dev);
+    CHECK_PTR(dx);
+    CHECK_PTR(dforce);
+    int st = check_finite_input("x", x, lattice->n);
+    if (!st) st = check_finite_input("dx", dx, (long)lattice->n * n_dev);
+    fpl_work *w = NULL;
+    if (!st) st = fpl_work_create(lattice->n, 0, &w);
     if (st) return st;
-    fpl_kernel_tangent(lattice, x, n_dev, dx, dforce);
+    fpl_kernel_tangent(lattice, w, x, n_dev, dx, dforce);
+    fpl_work_free(&w);
     return FPL_OK;
 }
 
-int fpl_lattice_rhs(fpl_lattice *lattice, const double *y, int n_dev, double *ydot)
+int fpl_lattice_rhs(const fpl_lattice *lattice, const double *y, int n_dev, double *ydot)
 {
     CHECK_LATTICE(lattice);
-    CHECK_PTR(lattice, y);
-    CHECK_PTR(lattice, ydot);
-    CHECK_NDEV(lattice, n_dev);
-    int st = check_finite_input(lattice, "y", y, 2L * lattice->n * (n_dev + 1));
+    CHECK_PTR(y);
+    CHECK_PTR(ydot);
+    CHECK_NDEV(n_dev);
+    int st = check_finite_input("y", y, 2L * lattice->n * (n_dev + 1));
+    fpl_work *w = NULL;
+    if (!st) st = fpl_work_create(lattice->n, 0, &w);
     if (st) return st;
-    fpl_kernel_rhs(lattice, y, n_dev, ydot);
+    fpl_kernel_rhs(lattice, w, y, n_dev, ydot);
+    fpl_work_free(&w);
     return FPL_OK;
 }
 
@@ -230,14 +222,15 @@ static void emit_row_major(void *ctx, long row, long col, double value)
     c->a[row * c->dim + col] += value;
 }
 
-int fpl_lattice_jacobian_dense(fpl_lattice *lattice, const double *y, int n_dev, double *jac)
+int fpl_lattice_jacobian_dense(const fpl_lattice *lattice, const double *y, int n_dev,
+                               double *jac)
 {
     CHECK_LATTICE(lattice);
-    CHECK_PTR(lattice, y);
-    CHECK_PTR(lattice, jac);
-    CHECK_NDEV(lattice, n_dev);
+    CHECK_PTR(y);
+    CHECK_PTR(jac);
+    CHECK_NDEV(n_dev);
     long dim = 2L * lattice->n * (n_dev + 1);
-    int st = check_finite_input(lattice, "y", y, dim);
+    int st = check_finite_input("y", y, dim);
     if (st) return st;
     memset(jac, 0, sizeof(double) * (size_t)(dim * dim));
     struct dense_ctx c = {jac, dim};
@@ -245,12 +238,12 @@ int fpl_lattice_jacobian_dense(fpl_lattice *lattice, const double *y, int n_dev,
     return FPL_OK;
 }
 
-int fpl_lattice_energy(fpl_lattice *lattice, const double *y, double *energy)
+int fpl_lattice_energy(const fpl_lattice *lattice, const double *y, double *energy)
 {
     CHECK_LATTICE(lattice);
-    CHECK_PTR(lattice, y);
-    CHECK_PTR(lattice, energy);
-    int st = check_finite_input(lattice, "y", y, 2L * lattice->n);
+    CHECK_PTR(y);
+    CHECK_PTR(energy);
+    int st = check_finite_input("y", y, 2L * lattice->n);
     if (st) return st;
     *energy = lattice->ops->energy(lattice, y);
     return FPL_OK;

@@ -1,6 +1,7 @@
-/* The three lattice models as data: coefficient arrays (set up in lattice.c) and kernels.
+/* The three lattice models as data: how their coefficient arrays follow from v, and kernels.
  * Hot kernels are branch-free loops over contiguous arrays; the boundary bonds (to the fixed
  * ends) are peeled off so the interior loops vectorise. See internal.h for the notation. */
+#include <stdio.h>
 #include <string.h>
 #include "internal.h"
 
@@ -97,28 +98,34 @@ FPL_INLINE void add_divergence_unit(int n, double h, const double *restrict phi,
 
 /* ---- kicks (the hot path of the splitting schemes) ------------------------------------- */
 
-FPL_HOT static void kick_generic(fpl_lattice *lat, double *y, int n_dev, double h)
+FPL_HOT static void kick_generic(void *ctx, double *y, double h)
 {
-    const int n = lat->n;
-    bond_forces_generic(n, y, lat->cl, lat->cn, lat->alpha, lat->beta, lat->phi,
-                        n_dev > 0 ? lat->kappa : NULL);
-    add_divergence(n, h, lat->s, lat->phi, y + n);
+    const fpl_lattice_ctx *c = ctx;
+    const fpl_lattice *lat = c->lat;
+    fpl_work *w = c->work;
+    const int n = lat->n, n_dev = c->n_dev;
+    bond_forces_generic(n, y, lat->cl, lat->cn, lat->alpha, lat->beta, w->phi,
+                        n_dev > 0 ? w->kappa : NULL);
+    add_divergence(n, h, lat->s, w->phi, y + n);
     for (int m = 0; m < n_dev; m++) {
         double *dx = y + 2 * (size_t)n * (size_t)(m + 1);
-        bond_tangent_generic(n, dx, lat->cl, lat->cn, lat->kappa, lat->dphi);
-        add_divergence(n, h, lat->s, lat->dphi, dx + n);
+        bond_tangent_generic(n, dx, lat->cl, lat->cn, w->kappa, w->dphi);
+        add_divergence(n, h, lat->s, w->dphi, dx + n);
     }
 }
 
-FPL_HOT static void kick_homogeneous(fpl_lattice *lat, double *y, int n_dev, double h)
+FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
 {
-    const int n = lat->n;
-    bond_forces_homogeneous(n, y, lat->alpha, lat->beta, lat->phi, n_dev > 0 ? lat->kappa : NULL);
-    add_divergence_unit(n, h, lat->phi, y + n);
+    const fpl_lattice_ctx *c = ctx;
+    const fpl_lattice *lat = c->lat;
+    fpl_work *w = c->work;
+    const int n = lat->n, n_dev = c->n_dev;
+    bond_forces_homogeneous(n, y, lat->alpha, lat->beta, w->phi, n_dev > 0 ? w->kappa : NULL);
+    add_divergence_unit(n, h, w->phi, y + n);
     for (int m = 0; m < n_dev; m++) {
         double *dx = y + 2 * (size_t)n * (size_t)(m + 1);
-        bond_tangent_homogeneous(n, dx, lat->kappa, lat->dphi);
-        add_divergence_unit(n, h, lat->dphi, dx + n);
+        bond_tangent_homogeneous(n, dx, w->kappa, w->dphi);
+        add_divergence_unit(n, h, w->dphi, dx + n);
     }
 }
 
@@ -127,13 +134,14 @@ FPL_HOT static void kick_homogeneous(fpl_lattice *lat, double *y, int n_dev, dou
 /* Valid when cl = s = minv = 1 (the linear part is the homogeneous chain, split off exactly):
  * phi_b = alpha R_b^2 + beta R_b^3, R_b = cn[b] x[b] - cn[b-1] x[b-1], f_i = phi_{i+1} - phi_i.
  * The curvatures kappa_b = 2 alpha R_b + 3 beta R_b^2 (for the tangent) are always kept in
- * lat->kappa: two flops a bond buy a branch-free loop (the tangent needs them whenever n_dev > 0). */
-FPL_HOT void fpl_kernel_anharmonic_force(fpl_lattice *lat, const double *x, double *f)
+ * work->kappa: two flops a bond buy a branch-free loop (the tangent needs them whenever n_dev > 0). */
+FPL_HOT void fpl_kernel_anharmonic_force(const fpl_lattice *lat, fpl_work *work, const double *x,
+                                         double *f)
 {
     const int n = lat->n;
     const double a = lat->alpha, b = lat->beta;
     const double *restrict cn = lat->cn;
-    double *restrict phi = lat->phi, *restrict kap = lat->kappa;
+    double *restrict phi = work->phi, *restrict kap = work->kappa;
     double R = cn[0] * x[0];
     phi[0] = R * R * (a + b * R);
     kap[0] = R * (2.0 * a + 3.0 * b * R);
@@ -149,11 +157,12 @@ FPL_HOT void fpl_kernel_anharmonic_force(fpl_lattice *lat, const double *x, doub
         f[i] = phi[i + 1] - phi[i];
 }
 
-FPL_HOT void fpl_kernel_anharmonic_tangent(fpl_lattice *lat, const double *dx, double *df)
+FPL_HOT void fpl_kernel_anharmonic_tangent(const fpl_lattice *lat, fpl_work *work,
+                                           const double *dx, double *df)
 {
     const int n = lat->n;
-    const double *restrict cn = lat->cn, *restrict kap = lat->kappa;
-    double *restrict dphi = lat->dphi;
+    const double *restrict cn = lat->cn, *restrict kap = work->kappa;
+    double *restrict dphi = work->dphi;
     dphi[0] = kap[0] * cn[0] * dx[0];
     for (int k = 1; k < n; k++)
         dphi[k] = kap[k] * (cn[k] * dx[k] - cn[k - 1] * dx[k - 1]);
@@ -196,18 +205,56 @@ static double energy_plain(const fpl_lattice *lat, const double *y)
     return energy_with(lat, y, lat->cl);
 }
 
+/* ---- the models: coefficients from v, kernels -------------------------------------------- */
+
+/* Model 1: v plays no part (cl = cn = s = minv = 1). */
+static void coefficients_homogeneous(double v, double *cl, double *cn, double *s, double *minv)
+{
+    (void)v;
+    *cl = *cn = *s = *minv = 1.0;
+}
+
+/* Model 2: v in the linear and nonlinear couplings and as the mass (cl = cn = s = v, minv = 1/v). */
+static void coefficients_hamiltonian(double v, double *cl, double *cn, double *s, double *minv)
+{
+    *cl = *cn = *s = v;
+    *minv = 1.0 / v;
+}
+
+/* Model 3: v in the nonlinear couplings only (cl = s = minv = 1, cn = v). */
+static void coefficients_nonlinear(double v, double *cl, double *cn, double *s, double *minv)
+{
+    *cl = *s = *minv = 1.0;
+    *cn = v;
+}
+
+/* Adding a model = adding one entry (and its FPL_MODEL_ constant in fputlab/lattice.h). */
 static const fpl_model_ops ops_table[] = {
-    {FPL_MODEL_HOMOGENEOUS, "homogeneous", kick_homogeneous, energy_hamiltonian},
-    {FPL_MODEL_HAMILTONIAN, "hamiltonian", kick_generic, energy_hamiltonian},
-    {FPL_MODEL_NONLINEAR, "nonlinear", kick_generic, energy_plain},
+    {FPL_MODEL_HOMOGENEOUS, "homogeneous", coefficients_homogeneous, kick_homogeneous,
+     energy_hamiltonian},
+    {FPL_MODEL_HAMILTONIAN, "hamiltonian", coefficients_hamiltonian, kick_generic,
+     energy_hamiltonian},
+    {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, kick_generic, energy_plain},
 };
+#define N_MODELS (sizeof ops_table / sizeof ops_table[0])
 
 const fpl_model_ops *fpl_model_ops_for(int model)
 {
-    for (size_t i = 0; i < sizeof ops_table / sizeof ops_table[0]; i++)
+    for (size_t i = 0; i < N_MODELS; i++)
         if (ops_table[i].model == model)
             return &ops_table[i];
     return NULL;
+}
+
+int fpl_model_unknown(int model)
+{
+    char known[160] = "";
+    for (size_t i = 0; i < N_MODELS; i++) {
+        size_t used = strlen(known);
+        snprintf(known + used, sizeof known - used, "%s%d %s", i ? ", " : "", ops_table[i].model,
+                 ops_table[i].name);
+    }
+    return fpl_error(NULL, FPL_ERR_UNKNOWN, "model %d is unknown (%s)", model, known);
 }
 
 const char *fpl_model_name(int model)
@@ -218,27 +265,28 @@ const char *fpl_model_name(int model)
 
 /* ---- generic (non-hot) kernels for the public evaluation API ---------------------------- */
 
-void fpl_kernel_force(fpl_lattice *lat, const double *x, double *f)
+void fpl_kernel_force(const fpl_lattice *lat, fpl_work *w, const double *x, double *f)
 {
     memset(f, 0, sizeof(double) * (size_t)lat->n);
-    bond_forces_generic(lat->n, x, lat->cl, lat->cn, lat->alpha, lat->beta, lat->phi, NULL);
-    add_divergence(lat->n, 1.0, lat->s, lat->phi, f);
+    bond_forces_generic(lat->n, x, lat->cl, lat->cn, lat->alpha, lat->beta, w->phi, NULL);
+    add_divergence(lat->n, 1.0, lat->s, w->phi, f);
 }
 
-void fpl_kernel_tangent(fpl_lattice *lat, const double *x, int n_dev, const double *dx,
-                        double *df)
+void fpl_kernel_tangent(const fpl_lattice *lat, fpl_work *w, const double *x, int n_dev,
+                        const double *dx, double *df)
 {
     const int n = lat->n;
-    bond_forces_generic(n, x, lat->cl, lat->cn, lat->alpha, lat->beta, lat->phi, lat->kappa);
+    bond_forces_generic(n, x, lat->cl, lat->cn, lat->alpha, lat->beta, w->phi, w->kappa);
     for (int m = 0; m < n_dev; m++) {
         double *out = df + (size_t)m * n;
         memset(out, 0, sizeof(double) * (size_t)n);
-        bond_tangent_generic(n, dx + (size_t)m * n, lat->cl, lat->cn, lat->kappa, lat->dphi);
-        add_divergence(n, 1.0, lat->s, lat->dphi, out);
+        bond_tangent_generic(n, dx + (size_t)m * n, lat->cl, lat->cn, w->kappa, w->dphi);
+        add_divergence(n, 1.0, lat->s, w->dphi, out);
     }
 }
 
-void fpl_kernel_rhs(fpl_lattice *lat, const double *y, int n_dev, double *ydot)
+void fpl_kernel_rhs(const fpl_lattice *lat, fpl_work *work, const double *y, int n_dev,
+                    double *ydot)
 {
     const int n = lat->n;
     for (int m = 0; m <= n_dev; m++) {
@@ -247,10 +295,10 @@ void fpl_kernel_rhs(fpl_lattice *lat, const double *y, int n_dev, double *ydot)
         for (int i = 0; i < n; i++)
             xd[i] = lat->minv[i] * p[i];
     }
-    fpl_kernel_force(lat, y, ydot + n);
+    fpl_kernel_force(lat, work, y, ydot + n);
     for (int m = 1; m <= n_dev; m++) {
         /* fpl_kernel_tangent recomputes kappa; cheap next to what a caller does with f */
-        fpl_kernel_tangent(lat, y, 1, y + 2 * (size_t)n * m, ydot + 2 * (size_t)n * m + n);
+        fpl_kernel_tangent(lat, work, y, 1, y + 2 * (size_t)n * m, ydot + 2 * (size_t)n * m + n);
     }
 }
 
@@ -263,8 +311,8 @@ static double stretch(const fpl_lattice *lat, const double *c, const double *x, 
     return right - left;
 }
 
-void fpl_kernel_jacobian_entries(fpl_lattice *lat, const double *y, int n_dev, fpl_emit_fn emit,
-                                 void *ctx)
+void fpl_kernel_jacobian_entries(const fpl_lattice *lat, const double *y, int n_dev,
+                                 fpl_emit_fn emit, void *ctx)
 {
     const int n = lat->n;
     const double a = lat->alpha, b = lat->beta;

@@ -5,38 +5,23 @@
 #include <gsl/gsl_fft_real.h>
 #include "internal.h"
 
-int fpl_modes_alloc(fpl_lattice *lat)
-{
-    size_t m = 2 * ((size_t)lat->n + 1);
-    lat->fft_wavetable = gsl_fft_real_wavetable_alloc(m);
-    lat->fft_workspace = gsl_fft_real_workspace_alloc(m);
-    return lat->fft_wavetable && lat->fft_workspace ? 0 : -1;
-}
-
-void fpl_modes_release(fpl_lattice *lat)
-{
-    if (lat->fft_wavetable) gsl_fft_real_wavetable_free(lat->fft_wavetable);
-    if (lat->fft_workspace) gsl_fft_real_workspace_free(lat->fft_workspace);
-    lat->fft_wavetable = lat->fft_workspace = NULL;
-}
-
 /* out_k = sqrt(2/(N+1)) sum_j in_j sin(pi j k/(N+1)), k = 1..N.  For the odd extension
  * y (length M = 2(N+1)), Y_k = sum y_j e^{-2 pi i jk/M} = -2i sum_j in_j sin(pi jk/(N+1)),
  * and GSL's half-complex output stores Im Y_k at index 2k. */
-static int sine_transform(fpl_lattice *lat, const double *in, double *out)
+static int sine_transform(fpl_work *work, const double *in, double *out)
 {
-    const int n = lat->n;
+    const int n = work->n;
     const size_t m = 2 * ((size_t)n + 1);
-    double *buf = lat->fft;
+    double *buf = work->fft;
     buf[0] = 0.0;
     buf[n + 1] = 0.0;
     for (int j = 1; j <= n; j++) {
         buf[j] = in[j - 1];
         buf[m - (size_t)j] = -in[j - 1];
     }
-    int st = gsl_fft_real_transform(buf, 1, m, lat->fft_wavetable, lat->fft_workspace);
+    int st = gsl_fft_real_transform(buf, 1, m, work->fft_wavetable, work->fft_workspace);
     if (st)
-        return fpl_error(lat, FPL_ERR_BACKEND, "GSL FFT failed: %s", gsl_strerror(st));
+        return fpl_error(NULL, FPL_ERR_BACKEND, "GSL FFT failed: %s", gsl_strerror(st));
     const double scale = -0.5 * sqrt(2.0 / (n + 1.0));
     for (int k = 1; k <= n; k++)
         out[k - 1] = scale * buf[2 * k];
@@ -52,23 +37,40 @@ int fpl_modes_omega(int n, double *omega)
     return FPL_OK;
 }
 
-int fpl_modes_transform(fpl_lattice *lattice, const double *x, double *q)
+/* One-shot: a temporary workspace per call. */
+int fpl_modes_transform(const fpl_lattice *lattice, const double *x, double *q)
 {
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
-    if (!x || !q) return fpl_error(lattice, FPL_ERR_ARG, "x/q: NULL pointer");
-    return sine_transform(lattice, x, q);
+    if (!x || !q) return fpl_error(NULL, FPL_ERR_ARG, "x/q: NULL pointer");
+    fpl_work *w = NULL;
+    int st = fpl_work_create(lattice->n, 1, &w);
+    if (st) return st;
+    st = sine_transform(w, x, q);
+    fpl_work_free(&w);
+    return st;
 }
 
-int fpl_modes_energies(fpl_lattice *lattice, const double *y, double *energies)
+int fpl_modes_energies(const fpl_lattice *lattice, const double *y, double *energies)
 {
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
-    if (!y || !energies) return fpl_error(lattice, FPL_ERR_ARG, "y/energies: NULL pointer");
-    const int n = lattice->n;
-    double *vel = lattice->dphi; /* N+1 scratch, free outside the kicks */
-    fpl_lattice_velocity(lattice, y, vel);
-    int st = sine_transform(lattice, y, energies); /* Q_k */
+    if (!y || !energies) return fpl_error(NULL, FPL_ERR_ARG, "y/energies: NULL pointer");
+    fpl_work *w = NULL;
+    int st = fpl_work_create(lattice->n, 1, &w);
     if (st) return st;
-    st = sine_transform(lattice, vel, vel); /* P_k */
+    st = fpl_modes_energies_work(lattice, w, y, energies);
+    fpl_work_free(&w);
+    return st;
+}
+
+int fpl_modes_energies_work(const fpl_lattice *lattice, fpl_work *work, const double *y,
+                            double *energies)
+{
+    const int n = lattice->n;
+    double *vel = work->dphi; /* N+1 scratch, free outside the kicks */
+    fpl_lattice_velocity(lattice, y, vel);
+    int st = sine_transform(work, y, energies); /* Q_k */
+    if (st) return st;
+    st = sine_transform(work, vel, vel); /* P_k */
     if (st) return st;
     for (int k = 1; k <= n; k++) {
         double w = 2.0 * sin(k * M_PI / (2.0 * (n + 1)));

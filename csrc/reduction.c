@@ -1,6 +1,6 @@
 /* Reduction to a few normal modes (paper Sec. 4): two-mode coefficients as closed sums, their exact
- * moments over the disorder, the two-mode ODE and the Galerkin truncation, both integrated with the
- * splitting tables of csrc/integrators/. The formulas are in include/fputlab/reduction.h. */
+ * moments over the disorder, the two-mode ODE and the Galerkin truncation, both integrated as split
+ * systems by the one splitting step and grid driver of splitting.c. The formulas are in include/fputlab/reduction.h. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -12,7 +12,8 @@
 
 struct fpl_galerkin {
     int n, m;
-    fpl_lattice *lat;  /* own copy: the force kernel writes the lattice's scratch */
+    fpl_lattice *lat;  /* own copy: the handle does not depend on the caller's lattice's lifetime */
+    fpl_work *work;    /* the force kernel's scratch */
     double *basis;     /* m x n, basis[k n + j] = A_{j+1,k+1} */
     double *omega;     /* m */
     double *x, *f;     /* n scratch */
@@ -65,9 +66,7 @@ int fpl_reduction_coefficients(int n, double alpha, int model, const double *v, 
 {
     int st = check_chain(n, alpha);
     if (st) return st;
-    if (!fpl_model_ops_for(model))
-        return red_error(NULL, FPL_ERR_UNKNOWN,
-                         "model %d is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)", model);
+    if (!fpl_model_ops_for(model)) return fpl_model_unknown(model);
     if (!a || !b) return red_error(NULL, FPL_ERR_ARG, "a/b: NULL pointer");
     const int weighted = model != FPL_MODEL_HOMOGENEOUS && v != NULL;
     if (weighted) {
@@ -178,9 +177,7 @@ int fpl_reduction_moments(int n, double alpha, int model, int kind, double tau, 
 {
     int st = check_chain(n, alpha);
     if (st) return st;
-    if (!fpl_model_ops_for(model))
-        return red_error(NULL, FPL_ERR_UNKNOWN,
-                         "model %d is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)", model);
+    if (!fpl_model_ops_for(model)) return fpl_model_unknown(model);
     if (!(tau >= 0.0) || !isfinite(tau))
         return red_error(NULL, FPL_ERR_ARG, "tau must be finite and >= 0 (got %g)", tau);
     if (kind != FPL_DISORDER_GAUSSIAN && tau >= 100.0)
@@ -244,34 +241,42 @@ typedef struct second_order {
     double *acc;      /* m scratch */
 } second_order;
 
-static void step_system(const fpl_splitting *scheme, const second_order *sys, double *z,
-                        double dt)
+/* As a split system (splitting.c: fpl_split_step, fpl_split_grid_advance): drift Q += h P (unit
+ * masses), kick P += h acc(Q). */
+static void modal_drift(void *ctx, double *z, int stage, double h)
 {
-    const int m = sys->m, s = scheme->n_kicks;
-    double *q = z, *p = z + m, *acc = sys->acc;
-    for (int i = 0; i < s; i++) {
-        const double h = scheme->drift[i] * dt, hk = scheme->kick[i] * dt;
-        for (int k = 0; k < m; k++) q[k] += h * p[k];
-        sys->accel(sys->ctx, q, acc);
-        for (int k = 0; k < m; k++) p[k] += hk * acc[k];
-    }
-    const double h = scheme->drift[s] * dt;
+    (void)stage;
+    const second_order *so = ctx;
+    const int m = so->m;
+    double *q = z;
+    const double *p = z + m;
     for (int k = 0; k < m; k++) q[k] += h * p[k];
 }
 
-/* The tables are applied here as drift-kick compositions: refuse a scheme whose own step function
- * does something else with them. */
+static void modal_kick(void *ctx, double *z, double h)
+{
+    const second_order *so = ctx;
+    const int m = so->m;
+    double *p = z + m, *acc = so->acc;
+    so->accel(so->ctx, z, acc);
+    for (int k = 0; k < m; k++) p[k] += h * acc[k];
+}
+
+static fpl_split_system modal_system(second_order *so)
+{
+    return (fpl_split_system){2L * so->m, modal_drift, modal_kick, NULL, so};
+}
+
+/* The schemes' tables are applied here to the kinetic drift-kick split: refuse a scheme with a
+ * split of its own (the harmonic split of the lattice). */
 static int check_scheme(fpl_galerkin *g, const fpl_splitting *scheme)
 {
     if (!scheme) return red_error(g, FPL_ERR_ARG, "method: NULL scheme");
-    if (scheme->step != fpl_step_aba)
+    if (scheme->run_setup)
         return red_error(g, FPL_ERR_ARG, "method '%s' is not a drift-kick composition",
                          scheme->name);
     return FPL_OK;
 }
-
-/* Steps between NaN/Inf checks, so that a blow-up is located in time (as splitting.c). */
-#define FINITE_CHECK_INTERVAL 1024
 
 static int check_run_args(fpl_galerkin *g, const fpl_splitting *scheme, const double *z0, int m,
                           double t0, double dt, const double *t_samples, int n_samples)
@@ -300,46 +305,39 @@ static int check_run_args(fpl_galerkin *g, const fpl_splitting *scheme, const do
 
 /* Fixed-step run on the grid t0 + n dt with exact off-grid samples (one partial step from a
  * copy). omega (length m) is needed only for mode_energies. */
-static int run_system(fpl_galerkin *g, const fpl_splitting *scheme, const second_order *sys,
+static int run_system(fpl_galerkin *g, const fpl_splitting *scheme, second_order *so,
                       const double *z0, double t0, double dt, const double *t_samples,
                       int n_samples, const double *omega, double *mode_energies, double *states,
                       int *n_done)
 {
-    const int m = sys->m;
+    const int m = so->m;
+    const fpl_split_system sys = modal_system(so);
     const size_t len = 2 * (size_t)m;
-    double *z = malloc(sizeof(double) * 2 * len);
+    double *z = malloc(sizeof(double) * 3 * len);
     if (!z) return red_error(g, FPL_ERR_NOMEM, "out of memory (state of %d modes)", m);
-    double *partial = z + len;
+    double *partial = z + len, *backup = z + 2 * len;
     memcpy(z, z0, sizeof(double) * len);
-    long step = 0;
-    double t_finite = t0;
+    long step = 0, bad = 0;
     int done = 0, st = FPL_OK;
     for (int i = 0; i < n_samples; i++) {
         double target = (t_samples[i] - t0) / dt;
         long n_target = (long)floor(target + 1e-9);
-        while (step < n_target && st == FPL_OK) {
-            long chunk = n_target - step;
-            if (chunk > FINITE_CHECK_INTERVAL) chunk = FINITE_CHECK_INTERVAL;
-            for (long k = 0; k < chunk; k++) step_system(scheme, sys, z, dt);
-            step += chunk;
-            if (!fpl_is_finite_array(z, (long)len, NULL))
-                st = red_error(g, FPL_ERR_NONFINITE,
-                               "state became non-finite between t = %.10g and t = %.10g "
-                               "(blow-up or dt = %g too large)", t_finite, t0 + step * dt, dt);
-            else
-                t_finite = t0 + step * dt;
+        if (fpl_split_grid_advance(scheme, &sys, z, backup, &step, n_target, dt, &bad)) {
+            st = red_error(g, FPL_ERR_NONFINITE,
+                           "state became non-finite between t = %.10g and t = %.10g "
+                           "(blow-up or dt = %g too large)", t0 + step * dt, t0 + bad * dt, dt);
+            break;
         }
-        if (st) break;
         const double *sample = z;
         double rest = (target - (double)n_target) * dt;
         if (rest > 1e-9 * dt) {
             memcpy(partial, z, sizeof(double) * len);
-            step_system(scheme, sys, partial, rest);
+            fpl_split_step(scheme, &sys, partial, rest);
             sample = partial;
             if (!fpl_is_finite_array(partial, (long)len, NULL)) {
                 st = red_error(g, FPL_ERR_NONFINITE,
                                "state became non-finite between t = %.10g and t = %.10g "
-                               "(blow-up or dt = %g too large)", t_finite, t_samples[i], dt);
+                               "(blow-up or dt = %g too large)", t0 + step * dt, t_samples[i], dt);
                 break;
             }
         }
@@ -392,8 +390,8 @@ int fpl_reduction_two_mode_run(const fpl_splitting *scheme, const double *omega,
     if (st) return st;
     two_mode c = {omega[0] * omega[0], omega[1] * omega[1], {a[0], a[1], a[2]}, {b[0], b[1], b[2]}};
     double acc[2];
-    second_order sys = {2, two_mode_accel, &c, acc};
-    return run_system(NULL, scheme, &sys, z0, t0, dt, t_samples, n_samples, NULL, NULL, states,
+    second_order so = {2, two_mode_accel, &c, acc};
+    return run_system(NULL, scheme, &so, z0, t0, dt, t_samples, n_samples, NULL, NULL, states,
                       n_done);
 }
 
@@ -413,7 +411,7 @@ static void galerkin_accel(void *ctx, const double *q, double *acc)
         const double qk = q[k];
         for (int j = 0; j < n; j++) x[j] += qk * col[j];
     }
-    fpl_kernel_force(g->lat, x, f);
+    fpl_kernel_force(g->lat, g->work, x, f);
     for (int j = 0; j < n; j++) f[j] *= minv[j];
     for (int k = 0; k < m; k++) {
         const double *restrict col = g->basis + (size_t)k * n;
@@ -438,8 +436,9 @@ int fpl_galerkin_create(const fpl_lattice *lattice, int m, fpl_galerkin **out)
     g->m = m;
     int st = fpl_lattice_create(n, lattice->alpha, lattice->beta, lattice->ops->model, lattice->v,
                                 &g->lat);
+    if (!st) st = fpl_work_create(n, 0, &g->work);
     if (st) {
-        free(g);
+        fpl_galerkin_free(&g);
         return st;
     }
     g->basis = malloc(sizeof(double) * (size_t)m * n);
@@ -464,6 +463,7 @@ void fpl_galerkin_free(fpl_galerkin **galerkin)
     if (!galerkin || !*galerkin) return;
     fpl_galerkin *g = *galerkin;
     fpl_lattice_free(&g->lat);
+    fpl_work_free(&g->work);
     free(g->basis);
     free(g->omega);
     free(g->x);
@@ -511,8 +511,9 @@ int fpl_galerkin_advance(const fpl_splitting *scheme, fpl_galerkin *galerkin, do
     const long len = 2L * galerkin->m;
     st = check_finite_array(galerkin, "z", z, len);
     if (st) return st;
-    second_order sys = {galerkin->m, galerkin_accel, galerkin, galerkin->acc};
-    for (long k = 0; k < nsteps; k++) step_system(scheme, &sys, z, dt);
+    second_order so = {galerkin->m, galerkin_accel, galerkin, galerkin->acc};
+    const fpl_split_system sys = modal_system(&so);
+    for (long k = 0; k < nsteps; k++) fpl_split_step(scheme, &sys, z, dt);
     long bad = -1;
     if (!fpl_is_finite_array(z, len, &bad))
         return red_error(galerkin, FPL_ERR_NONFINITE,
@@ -529,7 +530,7 @@ int fpl_galerkin_run(const fpl_splitting *scheme, fpl_galerkin *galerkin, const 
     CHECK_GALERKIN(galerkin);
     int st = check_run_args(galerkin, scheme, z0, galerkin->m, t0, dt, t_samples, n_samples);
     if (st) return st;
-    second_order sys = {galerkin->m, galerkin_accel, galerkin, galerkin->acc};
-    return run_system(galerkin, scheme, &sys, z0, t0, dt, t_samples, n_samples, galerkin->omega,
+    second_order so = {galerkin->m, galerkin_accel, galerkin, galerkin->acc};
+    return run_system(galerkin, scheme, &so, z0, t0, dt, t_samples, n_samples, galerkin->omega,
                       mode_energies, states, n_done);
 }

@@ -31,7 +31,8 @@ enum { C_T, C_MLE, C_SALI, C_GALI, C_COUNT };
 
 struct fpl_results {
     hid_t file;
-    fpl_lattice *lat;
+    const fpl_lattice *lat;
+    fpl_work *work;            /* the mode transform's scratch for appended rows */
     long dim;                  /* 2N(1 + n_dev) */
     int store_states, chunk;
     series s[S_COUNT];         /* S_STATES.d < 0 unless store_states */
@@ -119,6 +120,7 @@ static void release(fpl_results *r)
     }
     if (r->file >= 0) H5Fclose(r->file);
     free(r->ek);
+    fpl_work_free(&r->work);
     free(r);
 }
 
@@ -134,7 +136,7 @@ static int check_info(const fpl_lattice *lat, const fpl_run_info *info)
 }
 
 /* Allocate the handle and its buffers (file not yet open). */
-static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **out)
+static int new_handle(const fpl_lattice *lat, const fpl_run_info *info, fpl_results **out)
 {
     fpl_results *r = calloc(1, sizeof *r);
     if (!r) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (results)");
@@ -148,6 +150,7 @@ static int new_handle(fpl_lattice *lat, const fpl_run_info *info, fpl_results **
     if (r->chunk > rows_fit) r->chunk = (int)rows_fit;   /* chunks of at most 1 MiB */
     const int cols[S_COUNT] = {0, 0, lat->n, (int)r->dim};
     int bad = !(r->ek = malloc(sizeof(double) * (size_t)lat->n));
+    bad |= fpl_work_create(lat->n, 1, &r->work) != FPL_OK;
     for (int i = 0; i < S_COUNT; i++) {
         r->s[i] = (series){-1, cols[i], 0, FPL_FNV_OFFSET};
         if (i == S_STATES && !r->store_states) continue;
@@ -190,7 +193,7 @@ static int create_in(fpl_results *r, const char *path, const fpl_run_info *info)
     return H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "flush") : FPL_OK;
 }
 
-int fpl_results_create(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+int fpl_results_create(const char *path, const fpl_lattice *lat, const fpl_run_info *info,
                        fpl_results **out)
 {
     if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
@@ -453,7 +456,7 @@ static int resume_args(const char *path, const char *checkpoint)
     return FPL_OK;
 }
 
-int fpl_results_verify(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+int fpl_results_verify(const char *path, const fpl_lattice *lat, const fpl_run_info *info,
                        const char *checkpoint)
 {
     int st = resume_args(path, checkpoint);
@@ -485,7 +488,7 @@ static int copy_rows(const series *from, series *to, double *buf, long rows, int
     return 0;
 }
 
-int fpl_results_resume(const char *path, fpl_lattice *lat, const fpl_run_info *info,
+int fpl_results_resume(const char *path, const fpl_lattice *lat, const fpl_run_info *info,
                        const char *checkpoint, fpl_results **out)
 {
     if (!out) return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
@@ -680,7 +683,7 @@ int fpl_results_append(fpl_results *r, double t, const double *y)
     if (!fpl_is_finite_array(y, r->store_states ? r->dim : 2 * n, &bad))
         return fail(r, fpl_error(NULL, FPL_ERR_NONFINITE,
                                  "state at t = %.17g has a non-finite entry y[%ld]: not written", t, bad));
-    int st = fpl_modes_energies(r->lat, y, r->ek);
+    int st = fpl_modes_energies_work(r->lat, r->work, y, r->ek);
     if (st) return fail(r, st);
     double e = r->lat->ops->energy(r->lat, y);
     if (!isfinite(e) || !fpl_is_finite_array(r->ek, n, NULL))

@@ -1,5 +1,7 @@
-/* Splitting schemes: the generic drift/kick step, the scheme registry and the fixed-step run
- * loop. Each scheme's coefficient table lives in its own file under integrators/. */
+/* Splitting schemes: the scheme registry, the one drift/kick step and fixed-step grid driver for
+ * every second-order system (the lattice here; the Galerkin truncation and the two-mode ODE in
+ * reduction.c), and the lattice as such a system. Each scheme's coefficient table lives in its
+ * own file under integrators/. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,12 +46,47 @@ int fpl_splitting_lookup(const char *name, const fpl_splitting **out)
     return fpl_error(NULL, FPL_ERR_UNKNOWN, "method '%s' is unknown (known: %s)", name, known);
 }
 
-/* x^(m) += h minv p^(m) for the orbit and every deviation vector (the drift is linear, so its
- * tangent map is itself). */
-FPL_HOT static void drift(const fpl_lattice *lat, double *y, int n_dev, double h)
+void fpl_split_step(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
+                    double dt)
 {
-    const int n = lat->n;
-    const double *restrict minv = lat->minv;
+    const int s = scheme->n_kicks;
+    if (sys->begin_step) sys->begin_step(sys->ctx, scheme, dt);
+    for (int i = 0; i < s; i++) {
+        sys->drift(sys->ctx, y, i, scheme->drift[i] * dt);
+        sys->kick(sys->ctx, y, scheme->kick[i] * dt);
+    }
+    sys->drift(sys->ctx, y, s, scheme->drift[s] * dt);
+}
+
+int fpl_split_grid_advance(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
+                           double *backup, long *step, long n_target, double dt, long *step_bad)
+{
+    const size_t bytes = sizeof(double) * (size_t)sys->dim;
+    while (*step < n_target) {
+        long chunk = n_target - *step;
+        if (chunk > FPL_FINITE_CHECK_INTERVAL) chunk = FPL_FINITE_CHECK_INTERVAL;
+        memcpy(backup, y, bytes);
+        for (long k = 0; k < chunk; k++) fpl_split_step(scheme, sys, y, dt);
+        if (!fpl_is_finite_array(y, sys->dim, NULL)) {
+            memcpy(y, backup, bytes);
+            *step_bad = *step + chunk;
+            return FPL_ERR_NONFINITE;
+        }
+        *step += chunk;
+    }
+    return FPL_OK;
+}
+
+/* ---- the lattice as a split system --------------------------------------------------------- */
+
+/* Kinetic drift: x^(m) += h minv p^(m) for the orbit and every deviation vector (the drift is
+ * linear, so its tangent map is itself). ctx: the fpl_split_run. */
+FPL_HOT static void lattice_drift(void *ctx, double *y, int stage, double h)
+{
+    (void)stage;
+    const fpl_lattice_ctx *c = ctx;
+    const int n = c->lat->n, n_dev = c->n_dev;
+    const double *restrict minv = c->lat->minv;
     for (int m = 0; m <= n_dev; m++) {
         double *restrict x = y + 2 * (size_t)n * m;
         const double *restrict p = x + n;
@@ -58,50 +95,49 @@ FPL_HOT static void drift(const fpl_lattice *lat, double *y, int n_dev, double h
     }
 }
 
-void fpl_step_aba(const fpl_splitting *scheme, fpl_lattice *lat, double *y, int n_dev, double dt)
+int fpl_split_run_init(fpl_split_run *run, const fpl_splitting *scheme, const fpl_lattice *lat,
+                       fpl_work *work, int n_dev)
 {
-    const int s = scheme->n_kicks;
-    for (int i = 0; i < s; i++) {
-        drift(lat, y, n_dev, scheme->drift[i] * dt);
-        lat->ops->kick(lat, y, n_dev, scheme->kick[i] * dt);
-    }
-    drift(lat, y, n_dev, scheme->drift[s] * dt);
+    *run = (fpl_split_run){{lat, work, n_dev}, scheme, NULL, {0, NULL, NULL, NULL, NULL}};
+    run->sys = (fpl_split_system){2L * lat->n * (n_dev + 1), lattice_drift, lat->ops->kick, NULL,
+                                  run};
+    return scheme->run_setup ? scheme->run_setup(scheme, run) : FPL_OK;
 }
 
-int fpl_splitting_prepare(const fpl_splitting *scheme, fpl_lattice *lat)
+void fpl_split_run_release(fpl_split_run *run)
 {
-    return scheme->prepare ? scheme->prepare(scheme, lat) : FPL_OK;
+    if (run->state && run->scheme->state_free) run->scheme->state_free(run->state);
+    run->state = NULL;
 }
 
-static int check_step(fpl_lattice *lat, double dt)
-{
-    if (!(dt > 0.0) || !isfinite(dt))
-        return fpl_error(lat, FPL_ERR_ARG, "dt must be finite and > 0 (got %g)", dt);
-    return FPL_OK;
-}
-
-int fpl_splitting_advance(const fpl_splitting *scheme, fpl_lattice *lattice, double *y, int n_dev,
-                          double dt, long nsteps)
+int fpl_splitting_advance(const fpl_splitting *scheme, const fpl_lattice *lattice, double *y,
+                          int n_dev, double dt, long nsteps)
 {
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
-    fpl_error_clear(lattice);
-    if (!scheme) return fpl_error(lattice, FPL_ERR_ARG, "scheme: NULL");
-    if (!y) return fpl_error(lattice, FPL_ERR_ARG, "y: NULL pointer");
-    if (n_dev < 0) return fpl_error(lattice, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", n_dev);
+    if (!scheme) return fpl_error(NULL, FPL_ERR_ARG, "scheme: NULL");
+    if (!y) return fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer");
+    if (n_dev < 0) return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", n_dev);
     if (nsteps < 0)
-        return fpl_error(lattice, FPL_ERR_ARG, "nsteps must be >= 0 (got %ld)", nsteps);
-    int st = check_step(lattice, dt);
-    if (st) return st;
+        return fpl_error(NULL, FPL_ERR_ARG, "nsteps must be >= 0 (got %ld)", nsteps);
+    if (!(dt > 0.0) || !isfinite(dt))
+        return fpl_error(NULL, FPL_ERR_ARG, "dt must be finite and > 0 (got %g)", dt);
     long len = 2L * lattice->n * (n_dev + 1), bad = -1;
     if (!fpl_is_finite_array(y, len, &bad))
-        return fpl_error(lattice, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
-    st = fpl_splitting_prepare(scheme, lattice);
+        return fpl_error(NULL, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
+    fpl_work *work = NULL;
+    int st = fpl_work_create(lattice->n, 0, &work);
     if (st) return st;
-    for (long k = 0; k < nsteps; k++)
-        scheme->step(scheme, lattice, y, n_dev, dt);
-    if (!fpl_is_finite_array(y, len, &bad))
-        return fpl_error(lattice, FPL_ERR_NONFINITE,
-                         "state became non-finite (y[%ld] = %g) within %ld steps of dt = %g", bad,
-                         y[bad], nsteps, dt);
-    return FPL_OK;
+    fpl_split_run run;
+    st = fpl_split_run_init(&run, scheme, lattice, work, n_dev);
+    if (!st) {
+        for (long k = 0; k < nsteps; k++)
+            fpl_split_step(scheme, &run.sys, y, dt);
+        if (!fpl_is_finite_array(y, len, &bad))
+            st = fpl_error(NULL, FPL_ERR_NONFINITE,
+                           "state became non-finite (y[%ld] = %g) within %ld steps of dt = %g",
+                           bad, y[bad], nsteps, dt);
+    }
+    fpl_split_run_release(&run);
+    fpl_work_free(&work);
+    return st;
 }

@@ -8,12 +8,15 @@
 #include <string.h>
 #include "internal.h"
 
+/* user_data of every callback: an fpl_system (fputlab/events.h), which brings the lattice, the
+ * criteria and the kernels' scratch. */
+
 /* n_dev from the vector length 2N(1+n_dev), or -1 (message on the handle) if it does not fit. */
-static int n_dev_of(fpl_lattice *lat, N_Vector y)
+static int n_dev_of(fpl_system *sys, N_Vector y)
 {
-    sunindextype len = N_VGetLength(y), two_n = 2 * (sunindextype)lat->n;
+    sunindextype len = N_VGetLength(y), two_n = 2 * (sunindextype)sys->lat->n;
     if (len < two_n || len % two_n != 0) {
-        fpl_error(lat, FPL_ERR_ARG, "N_Vector length %ld is not a multiple 2N(1+n_dev) of 2N = %ld",
+        fpl_error(sys->errmsg, FPL_ERR_ARG, "N_Vector length %ld is not a multiple 2N(1+n_dev) of 2N = %ld",
                   (long)len, (long)two_n);
         return -1;
     }
@@ -23,13 +26,13 @@ static int n_dev_of(fpl_lattice *lat, N_Vector y)
 /* What the right-hand sides check first: the deviation-vector count from the length of y (-1:
  * unrecoverable), and a finite y (1: recoverable, the integrator retries with a smaller step).
  * 0 and n_dev on success. */
-static int checked_state(fpl_lattice *lat, N_Vector y, sunrealtype t, const char *what,
+static int checked_state(fpl_system *sys, N_Vector y, sunrealtype t, const char *what,
                          int *n_dev)
 {
-    if ((*n_dev = n_dev_of(lat, y)) < 0) return -1;
+    if ((*n_dev = n_dev_of(sys, y)) < 0) return -1;
     long bad;
     if (!fpl_is_finite_array(N_VGetArrayPointer(y), N_VGetLength(y), &bad)) {
-        fpl_error(lat, FPL_ERR_NONFINITE, "%s called with non-finite y[%ld] at t = %g", what, bad,
+        fpl_error(sys->errmsg, FPL_ERR_NONFINITE, "%s called with non-finite y[%ld] at t = %g", what, bad,
                   t);
         return 1;
     }
@@ -38,27 +41,28 @@ static int checked_state(fpl_lattice *lat, N_Vector y, sunrealtype t, const char
 
 int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 {
-    fpl_lattice *lat = user_data;
-    int n_dev, st = checked_state(lat, y, t, "rhs", &n_dev);
+    fpl_system *sys = user_data;
+    int n_dev, st = checked_state(sys, y, t, "rhs", &n_dev);
     if (st) return st;
     const double *yd = N_VGetArrayPointer(y);
-    fpl_kernel_rhs(lat, yd, n_dev, N_VGetArrayPointer(ydot));
+    fpl_kernel_rhs(sys->lat, sys->work, yd, n_dev, N_VGetArrayPointer(ydot));
     return 0;
 }
 
 /* SPRKStep form: the momenta part p' = F(x), dp' = J(x) dx (f1), zeros in the position blocks. */
 int fpl_sun_force(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 {
-    fpl_lattice *lat = user_data;
-    int n_dev, st = checked_state(lat, y, t, "force", &n_dev);
+    fpl_system *sys = user_data;
+    int n_dev, st = checked_state(sys, y, t, "force", &n_dev);
     if (st) return st;
     const double *yd = N_VGetArrayPointer(y);
-    const size_t n = (size_t)lat->n;
+    const size_t n = (size_t)sys->lat->n;
     double *f = N_VGetArrayPointer(ydot);
     for (int m = 0; m <= n_dev; m++) memset(f + 2 * n * (size_t)m, 0, sizeof(double) * n);
-    fpl_kernel_force(lat, yd, f + n);
+    fpl_kernel_force(sys->lat, sys->work, yd, f + n);
     for (int m = 1; m <= n_dev; m++)
-        fpl_kernel_tangent(lat, yd, 1, yd + 2 * n * (size_t)m, f + 2 * n * (size_t)m + n);
+        fpl_kernel_tangent(sys->lat, sys->work, yd, 1, yd + 2 * n * (size_t)m,
+                           f + 2 * n * (size_t)m + n);
     return 0;
 }
 
@@ -66,8 +70,9 @@ int fpl_sun_force(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 int fpl_sun_velocity(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 {
     (void)t;
-    fpl_lattice *lat = user_data;
-    int n_dev = n_dev_of(lat, y);
+    fpl_system *sys = user_data;
+    const fpl_lattice *lat = sys->lat;
+    int n_dev = n_dev_of(sys, y);
     if (n_dev < 0) return -1;
     const size_t n = (size_t)lat->n;
     const double *yd = N_VGetArrayPointer(y);
@@ -108,8 +113,9 @@ int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *use
                 N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
 {
     (void)t; (void)fy; (void)tmp1; (void)tmp2; (void)tmp3;
-    fpl_lattice *lat = user_data;
-    int n_dev = n_dev_of(lat, y);
+    fpl_system *sys = user_data;
+    const fpl_lattice *lat = sys->lat;
+    int n_dev = n_dev_of(sys, y);
     if (n_dev < 0) return -1;
     SUNMatZero(jac);
     switch (SUNMatGetID(jac)) {
@@ -120,7 +126,7 @@ int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *use
         sunindextype mu, ml;
         fpl_sun_band_widths(lat, n_dev, &mu, &ml);
         if (SM_UBAND_B(jac) < mu || SM_LBAND_B(jac) < ml) {
-            fpl_error(lat, FPL_ERR_ARG,
+            fpl_error(sys->errmsg, FPL_ERR_ARG,
                       "band matrix has bandwidths (mu %ld, ml %ld); need (%ld, %ld)",
                       (long)SM_UBAND_B(jac), (long)SM_LBAND_B(jac), (long)mu, (long)ml);
             return -1;
@@ -129,7 +135,7 @@ int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *use
         return 0;
     }
     default:
-        fpl_error(lat, FPL_ERR_ARG, "fpl_sun_jac supports dense and band SUNMatrix only");
+        fpl_error(sys->errmsg, FPL_ERR_ARG, "fpl_sun_jac supports dense and band SUNMatrix only");
         return -1;
     }
 }
@@ -137,13 +143,13 @@ int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *use
 int fpl_sun_roots(sunrealtype t, N_Vector y, sunrealtype *gout, void *user_data)
 {
     (void)t;
-    fpl_lattice *lat = user_data;
+    fpl_system *sys = user_data;
     const double *yd = N_VGetArrayPointer(y);
-    if (!fpl_is_finite_array(yd, 2L * lat->n, NULL)) {
-        for (int i = 0; i < lat->events.n; i++) gout[i] = -DBL_MAX;
+    if (!fpl_is_finite_array(yd, 2L * sys->lat->n, NULL)) {
+        for (int i = 0; i < sys->events.n; i++) gout[i] = -DBL_MAX;
         return 0;
     }
-    fpl_events_eval(lat, yd, gout);
+    fpl_events_eval(sys->lat, sys->work, &sys->events, yd, gout);
     return 0;
 }
 
@@ -159,11 +165,11 @@ int fpl_sun_jtimes(N_Vector v, N_Vector jv, sunrealtype t, N_Vector y, N_Vector 
                    void *user_data, N_Vector tmp)
 {
     (void)t; (void)fy; (void)tmp;
-    fpl_lattice *lat = user_data;
-    int n_dev = n_dev_of(lat, y);
+    fpl_system *sys = user_data;
+    int n_dev = n_dev_of(sys, y);
     if (n_dev < 0) return -1;
     N_VConst(0.0, jv);
     struct jtimes_ctx c = {N_VGetArrayPointer(v), N_VGetArrayPointer(jv)};
-    fpl_kernel_jacobian_entries(lat, N_VGetArrayPointer(y), n_dev, emit_jtimes, &c);
+    fpl_kernel_jacobian_entries(sys->lat, N_VGetArrayPointer(y), n_dev, emit_jtimes, &c);
     return 0;
 }

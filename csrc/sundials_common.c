@@ -51,7 +51,7 @@ int fpl_sun_classify(fpl_integrator *h, const fpl_sun_ops *ops, int flag, double
         int found[8] = {0};
         ops->root_info(d->mem, found);
         h->event_index = 0;
-        for (int i = fpl_lattice_event_count(h->lat) - 1; i >= 0; i--)
+        for (int i = fpl_system_event_count(h->sys) - 1; i >= 0; i--)
             if (found[i]) h->event_index = i;
         memcpy(h->y, yv, bytes);
         h->t = tret;

@@ -7,10 +7,10 @@
 #include "fputlab/modes.h"
 #include "fputlab/disorder.h"
 #include "fputlab/splitting.h"
+#include "fputlab/events.h"
 #include "fputlab/integrator.h"
 #include "fputlab/chaos.h"
 #include "fputlab/chaos_batch.h"
-#include "fputlab/events.h"
 #include "fputlab/reduction.h"
 #include "fputlab/io.h"
 #endif

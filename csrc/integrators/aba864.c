@@ -34,8 +34,6 @@ const fpl_splitting fpl_scheme_aba864 = {
     .n_kicks = 7,
     .drift = drift,
     .kick = kick,
-    .step = fpl_step_aba,
-    .prepare = NULL,
     .reference = "Blanes, Casas, Farres, Laskar, Makazaga & Murua, Appl. Numer. Math. 68, 58 (2013), "
                  "ABA(8,6,4)",
 };
@@ -46,8 +44,8 @@ const fpl_splitting fpl_scheme_aba864_harmonic = {
     .n_kicks = 7,
     .drift = drift,
     .kick = kick,
-    .step = fpl_step_harmonic,
-    .prepare = fpl_harmonic_prepare,
+    .run_setup = fpl_harmonic_run_setup,
+    .state_free = fpl_harmonic_state_free,
     .reference = "Blanes, Casas, Farres, Laskar, Makazaga & Murua, Appl. Numer. Math. 68, 58 (2013), "
                  "ABA(8,6,4) on the near-integrable split harmonic chain + anharmonic force",
 };

@@ -10,6 +10,5 @@ const fpl_splitting fpl_scheme_leapfrog = {
     .n_kicks = 1,
     .drift = drift,
     .kick = kick,
-    .step = fpl_step_aba,
     .reference = "Verlet, Phys. Rev. 159, 98 (1967)",
 };

@@ -35,6 +35,5 @@ const fpl_splitting fpl_scheme_srkn14a6 = {
     .n_kicks = 14,
     .drift = drift,
     .kick = kick,
-    .step = fpl_step_aba,
     .reference = "Blanes & Moan, J. Comput. Appl. Math. 142, 313 (2002), SRKN_14^a (order 6)",
 };

@@ -16,6 +16,5 @@ const fpl_splitting fpl_scheme_yoshida4 = {
     .n_kicks = 3,
     .drift = drift,
     .kick = kick,
-    .step = fpl_step_aba,
     .reference = "Yoshida, Phys. Lett. A 150, 262 (1990); Forest & Ruth, Physica D 43, 105 (1990)",
 };

@@ -13,9 +13,11 @@ int main(void)
 {
     enum { N = 32, LEN = 2 * N };               /* y = [x, p]; with k deviation vectors 2N(1+k) */
     double v[N], y0[LEN], ref[LEN];
-    fpl_lattice *lat = NULL;
+    fpl_lattice *lat = NULL;                     /* read-only physics: N, alpha, beta, model, v */
+    fpl_system *sys = NULL;                      /* lattice + scratch (+ criteria): user data */
     if (fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, 10.0, /*seed*/ 1, N, v) != 0 ||
         fpl_lattice_create(N, 0.25, 0.0, FPL_MODEL_NONLINEAR, v, &lat) != 0 ||
+        fpl_system_create(lat, /*events*/ NULL, &sys) != 0 ||
         fpl_modes_initial_state(lat, 1, 1.0, y0) != 0) {
         fprintf(stderr, "fputlab: %s\n", fpl_last_error());
         return 1;
@@ -26,7 +28,7 @@ int main(void)
     for (int i = 0; i < LEN; i++) NV_Ith_S(y, i) = y0[i];
     void *mem = CVodeCreate(CV_BDF, ctx);
     CVodeInit(mem, fpl_sun_rhs, 0.0, y);
-    CVodeSetUserData(mem, lat);                  /* the callbacks' user data is the lattice */
+    CVodeSetUserData(mem, sys);                  /* the callbacks' user data is the system */
     CVodeSStolerances(mem, 1e-10, 1e-12);
     CVodeSetMaxNumSteps(mem, 100000);
     SUNMatrix A = SUNDenseMatrix(LEN, LEN, ctx); /* or SUNBandMatrix: fpl_sun_band_widths */
@@ -51,6 +53,7 @@ int main(void)
     SUNMatDestroy(A);
     N_VDestroy(y);
     SUNContext_Free(&ctx);
+    fpl_system_free(&sys);
     fpl_lattice_free(&lat);
     return flag < 0 || st != 0 || !(err < 1e-6);
 }

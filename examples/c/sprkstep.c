@@ -20,10 +20,12 @@ enum { N = 16, LEN = 2 * N };
 int main(void)
 {
     fpl_lattice *lat = NULL;
+    fpl_system *sys = NULL;                            /* the callbacks' user data */
     double y0[LEN], ref[LEN], e0, e, max_err = 0.0;
     const double dt = 0.1, t_end = 1000.0;
     if (fpl_lattice_create(N, 0.25, 0.0, FPL_MODEL_HOMOGENEOUS, NULL, &lat) != 0 ||
-        fpl_modes_initial_state(lat, 1, 2.0, y0) != 0 || fpl_lattice_energy(lat, y0, &e0) != 0) {
+        fpl_system_create(lat, NULL, &sys) != 0 || fpl_modes_initial_state(lat, 1, 2.0, y0) != 0 ||
+        fpl_lattice_energy(lat, y0, &e0) != 0) {
         fprintf(stderr, "fputlab: %s\n", fpl_last_error());
         return 1;
     }
@@ -33,7 +35,7 @@ int main(void)
     for (int i = 0; i < LEN; i++) NV_Ith_S(y, i) = y0[i];
     void *mem = SPRKStepCreate(fpl_sun_force, fpl_sun_velocity, 0.0, y, ctx);
     SPRKStepSetMethodName(mem, "ARKODE_SPRK_YOSHIDA_6_8");
-    SPRK(SetUserData)(mem, lat);
+    SPRK(SetUserData)(mem, sys);
     SPRK(SetFixedStep)(mem, dt);
     SPRK(SetMaxNumSteps)(mem, 100000);
     int flag = 0;
@@ -57,6 +59,7 @@ int main(void)
     SPRK(Free)(&mem);
     N_VDestroy(y);
     SUNContext_Free(&ctx);
+    fpl_system_free(&sys);
     fpl_lattice_free(&lat);
     return flag < 0 || st != 0 || !(max_err < 1e-7) || !(diff < 1e-8);
 }

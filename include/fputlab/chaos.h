@@ -72,7 +72,7 @@ FPL_API void fpl_chaos_options_init(fpl_chaos_options *opt);
  * into the arrays (each of length opt->n_samples, or NULL). A blow-up ends the run cleanly: the
  * status is FPL_EVENT (> 0), result->blew_up is set with t_blowup, the message (fpl_last_error)
  * says when and why, and the samples up to it are kept. */
-FPL_API int fpl_chaos_run(fpl_lattice *lattice, const char *method,
+FPL_API int fpl_chaos_run(const fpl_lattice *lattice, const char *method,
                           const fpl_integrator_options *integrator_options, double t0,
                           const double *y0, const double *w0, const fpl_chaos_options *opt,
                           double *t_out, double *mle_out, double *sali_out, double *gali_out,
@@ -87,7 +87,7 @@ FPL_API int fpl_chaos_run(fpl_lattice *lattice, const char *method,
  * FPL_CHAOS_N_ACCUMULATORS numbers of fpl_chaos_save; restoring both continues bit for bit. */
 typedef struct fpl_chaos fpl_chaos;
 enum { FPL_CHAOS_N_ACCUMULATORS = 15 };
-FPL_API int fpl_chaos_create(fpl_lattice *lattice, const char *method,
+FPL_API int fpl_chaos_create(const fpl_lattice *lattice, const char *method,
                              const fpl_integrator_options *integrator_options, double t0,
                              const double *y0, const double *w0, const fpl_chaos_options *opt,
                              fpl_chaos **out);

@@ -14,11 +14,11 @@
  * Per lane:
  *   - blow-up: the lane stops when its state becomes non-finite or a bond stretch exceeds
  *     blowup_stretch (1/alpha by default; both checked at every renormalisation, before SALI, as
- *     fpl_chaos does) or when a stopping criterion attached to its lattice fires
- *     (fpl_lattice_set_events; kinds FPL_EVENT_MAX_STRETCH, FPL_EVENT_MAX_DISPLACEMENT and
+ *     fpl_chaos does) or when a stopping criterion of integrator_options->events fires
+ *     (fputlab/events.h; kinds FPL_EVENT_MAX_STRETCH, FPL_EVENT_MAX_DISPLACEMENT and
  *     FPL_EVENT_ENERGY, checked every 16 steps as fpl_integrator does; the event time is then
  *     located exactly by replaying that lane's interval with fpl_integrator, as a single-orbit run
- *     would). All lattices must carry the same criteria.
+ *     would). One set of criteria serves every lane.
  *   - chaos: SALI < sali_threshold at a renormalisation marks the lane chaotic (t_chaotic = that
  *     time) once the orbit is still finite, without any criterion fired, at the next
  *     renormalisation (or at t_end): a SALI collapse in the last interval before an overflow is
@@ -28,7 +28,7 @@
  *     the running lanes are compacted into the first slots.
  *
  *   fpl_chaos_batch *b;
- *   fpl_chaos_batch_options opt;  fpl_chaos_batch_options_init(&opt);  opt.t_end = 1e6;
+ *   fpl_chaos_batch_options opt;  fpl_chaos_batch_options_init(&opt);  opt.chaos.t_end = 1e6;
  *   fpl_chaos_batch_create(lattices, R, "srkn14a6", &io, 0.0, y0, NULL, &opt, &b);
  *   while (!fpl_chaos_batch_done(b)) fpl_chaos_batch_advance(b, t_next, t, mle, sali, gali);
  *   for (int r = 0; r < R; r++) fpl_chaos_batch_get_result(b, r, &res[r]);
@@ -36,11 +36,12 @@
  *
  * Sample arrays are R x n_samples, row-major (row r = orbit r), each entry written at its global
  * sample index exactly as fpl_chaos_advance does for one orbit.
- * The step never allocates; a handle (and the lattices, which must outlive it) belongs to one
- * thread at a time. */
+ * The step never allocates; a handle belongs to one thread at a time (the lattices, read-only
+ * and shareable, must outlive it). */
 #ifndef FPUTLAB_CHAOS_BATCH_H
 #define FPUTLAB_CHAOS_BATCH_H
 
+#include "fputlab/chaos.h"
 #include "fputlab/common.h"
 #include "fputlab/integrator.h"
 #include "fputlab/lattice.h"
@@ -50,18 +51,11 @@ extern "C" {
 #endif
 
 typedef struct fpl_chaos_batch_options {
-    double t_end;             /* final time (> t0; (t_end - t0)/dt must fit the 64-bit step count) */
-    double renorm_interval;   /* time between renormalisations (>= dt; default 1.0) */
-    int n_samples;            /* log-spaced output samples per orbit (>= 1; default 200) */
-    double t_first_sample;    /* first output time after t0 (>= 0; 0 = renorm_interval) */
-    int n_dev;                /* deviation vectors per orbit (1 = mLE only, >= 2 adds SALI, GALI) */
-    double sali_threshold;    /* SALI below this marks the orbit chaotic (default 1e-8) */
-    int stop_when_chaotic;    /* non-zero: a lane stops once found chaotic */
-    unsigned long seed;       /* random initial deviation vectors when w0 is NULL (the same
-                                 vectors for every orbit, as fpl_chaos with this seed) */
-    double blowup_stretch;    /* as fpl_chaos_options: a bond stretch |x_{j+1} - x_j| above this at
-                                 a renormalisation ends the lane as a blow-up (checked before
-                                 SALI). 0 (default): 1/alpha for alpha > 0, else none; < 0: none */
+    fpl_chaos_options chaos;  /* per lane, as fpl_chaos (fputlab/chaos.h) with these differences:
+                                 (t_end - t0)/dt must fit the 64-bit step count; t_first_sample 0
+                                 means renorm_interval; seed gives the same random deviation
+                                 vectors to every orbit when w0 is NULL; with stop_when_chaotic a
+                                 lane stops one renorm_interval after t_chaotic (see above) */
     int compact;              /* non-zero (default): move running lanes together when lanes
                                  finish; 0: leave them in place and skip only all-finished
                                  groups of 4 (for measurements) */
@@ -70,7 +64,7 @@ typedef struct fpl_chaos_batch_options {
 /* Why a lane blew up. */
 enum {
     FPL_BATCH_BLOWUP_NONE = 0,
-    FPL_BATCH_BLOWUP_EVENT = 1,      /* a stopping criterion of the lattice fired */
+    FPL_BATCH_BLOWUP_EVENT = 1,      /* a stopping criterion (integrator_options->events) fired */
     FPL_BATCH_BLOWUP_NONFINITE = 2,  /* the state (orbit or deviation vectors) left the finite
                                         numbers, or a deviation vector became zero */
     FPL_BATCH_BLOWUP_STRETCH = 3     /* a bond stretch exceeded blowup_stretch at a
@@ -89,20 +83,20 @@ typedef struct fpl_chaos_batch_result {
     double t_blowup;          /* the event time, or the renormalisation time at which the stretch
                                  or the non-finite state was found (NaN if no blow-up) */
     int blowup_reason;        /* FPL_BATCH_BLOWUP_* */
-    int event_index;          /* criterion that fired (index into the lattice's set), or -1 */
+    int event_index;          /* criterion that fired (index into integrator_options->events), or -1 */
     long steps;               /* integrator steps taken by this orbit */
     int done;                 /* the lane has finished (t_end, blow-up, or stopped chaotic) */
 } fpl_chaos_batch_result;
 
 typedef struct fpl_chaos_batch fpl_chaos_batch;
 
-/* t_end NaN (must be set), renorm_interval 1.0, n_samples 200, t_first_sample 0, n_dev 2,
- * sali_threshold 1e-8, stop_when_chaotic 0, seed 1, blowup_stretch 0 (automatic), compact 1. */
+/* chaos: fpl_chaos_options_init's defaults (t_end NaN: must be set); compact 1. */
 FPL_API void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt);
 
-/* lattices: n_orbits handles (the same N, model, alpha, beta and criteria; one may appear
- * several times); method: a kinetic-drift splitting scheme; integrator_options: dt is used (NULL:
- * dt = 0.01); y0: n_orbits x 2N initial states; w0: n_orbits x n_dev x 2N deviation vectors
+/* lattices: n_orbits handles (the same N, model, alpha and beta; one may appear several times;
+ * only read, as everywhere: the array is not const-qualified so that C callers need no cast);
+ * method: a kinetic-drift splitting scheme; integrator_options: dt and events are used (NULL:
+ * dt = 0.01, no criteria; mode-energy criteria are not supported); y0: n_orbits x 2N initial states; w0: n_orbits x n_dev x 2N deviation vectors
  * (NULL: Gaussian random from opt->seed, the same for every orbit). Errors name the parameter:
  * n_orbits < 1, lattices[r] NULL or different from lattices[0], unknown or unsupported method,
  * dt, t_end, renorm_interval (<= 0 or < dt), n_samples, n_dev, y0/w0 not finite. */

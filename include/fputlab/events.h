@@ -8,8 +8,9 @@
  *   FPL_EVENT_MAX_STRETCH       g = threshold - max_b |x_{b+1} - x_b|  (the cubic potential's
  *                                                       barrier sits at stretch -1/alpha)
  *   FPL_EVENT_MODE_ENERGY       g = threshold - E_k (mode k >= 1), or - max_k E_k (mode 0)
- * The criteria live on the lattice (fpl_lattice_set_events), so the SUNDIALS root function
- * fpl_sun_roots (fputlab/sundials.h) sees them through the same user_data as fpl_sun_rhs.
+ A set of criteria is an option of a run, never a property of the lattice: pass it in
+ * fpl_integrator_options.events (fputlab/integrator.h; the chaos handles take the same options),
+ * or to fpl_system_create for the SUNDIALS callbacks of fputlab/sundials.h.
  * Integrators stop at the first crossing: ARKODE/CVODE by their root-finding, the splitting
  * schemes by checking every step and refining inside the step (partial steps from the state
  * at the start of the step, Illinois root-finding to 1e-12 relative in time). */
@@ -38,14 +39,24 @@ typedef struct fpl_event_set {
     int mode[8];              /* FPL_EVENT_MODE_ENERGY only: k in 1..N, or 0 for the maximum */
 } fpl_event_set;
 
-/* Attach criteria to the lattice (copied; NULL or n = 0 removes them). Errors: n outside 0..8,
+/* The {lattice, criteria, workspace} of one run, for embedders of the SUNDIALS callbacks
+ * (fputlab/sundials.h: the user_data of every fpl_sun_* function). It holds the kernels' scratch,
+ * so it belongs to one thread at a time; the lattice (read-only, shareable) must outlive it.
+ * events may be NULL (no criteria); it is copied. Errors: NULL lattice or out, n outside 0..8,
  * unknown kind, threshold not finite and > 0, mode outside 0..N. */
-FPL_API int fpl_lattice_set_events(fpl_lattice *lattice, const fpl_event_set *events);
-FPL_API int fpl_lattice_event_count(const fpl_lattice *lattice);
-/* g_i(y) for the attached criteria (y of length >= 2N; only the orbit is read). */
-FPL_API int fpl_lattice_events_eval(fpl_lattice *lattice, const double *y, double *g);
-/* Readable description of criterion i, e.g. "max |x_{j+1} - x_j| > 4". */
-FPL_API const char *fpl_lattice_event_describe(const fpl_lattice *lattice, int index);
+typedef struct fpl_system fpl_system;
+FPL_API int fpl_system_create(const fpl_lattice *lattice, const fpl_event_set *events,
+                              fpl_system **out);
+FPL_API void fpl_system_free(fpl_system **system);
+/* Message of the last failing call or callback on this handle ("" if none). */
+FPL_API const char *fpl_system_errmsg(const fpl_system *system);
+FPL_API const fpl_lattice *fpl_system_lattice(const fpl_system *system);
+/* Number of criteria (the nrtfn of fpl_sun_roots). */
+FPL_API int fpl_system_event_count(const fpl_system *system);
+/* Readable description of criterion i, e.g. "max |x_{j+1} - x_j| > 4" ("" out of range). */
+FPL_API const char *fpl_system_event_describe(const fpl_system *system, int index);
+/* g_i(y) for the criteria (y of length >= 2N; only the orbit is read). */
+FPL_API int fpl_system_events_eval(fpl_system *system, const double *y, double *g);
 
 #ifdef __cplusplus
 }

@@ -17,6 +17,7 @@
 #define FPUTLAB_INTEGRATOR_H
 
 #include "fputlab/common.h"
+#include "fputlab/events.h"
 #include "fputlab/lattice.h"
 
 #ifdef __cplusplus
@@ -32,9 +33,11 @@ typedef struct fpl_integrator_options {
     long max_steps;   /* adaptive methods: internal steps allowed per advance (0 = 10^8) */
     int compensated_sums; /* ARKODE SPRKStep methods ("sprk-*"): compensated summation of the
                              increments (non-zero), which removes most round-off growth */
+    const fpl_event_set *events; /* stopping criteria (fputlab/events.h; copied at create), or
+                             NULL for none: the run stops with FPL_EVENT when one fires */
 } fpl_integrator_options;
 
-/* dt = 0.01, rtol = 1e-10, atol = 1e-12, max_steps = 0, compensated_sums = 0. */
+/* dt = 0.01, rtol = 1e-10, atol = 1e-12, max_steps = 0, compensated_sums = 0, events = NULL. */
 FPL_API void fpl_integrator_options_init(fpl_integrator_options *opt);
 
 /* Methods by name: fpl_method_count / fpl_method_name list them; fpl_method_info tells order
@@ -43,9 +46,10 @@ FPL_API int fpl_method_count(void);
 FPL_API const char *fpl_method_name(int index);
 FPL_API int fpl_method_info(const char *name, int *order, int *adaptive);
 
-/* Create an integrator at (t0, y0); y0 has length 2N(1 + n_dev). The lattice must outlive it
- * and must not be used by another thread meanwhile. opt NULL means defaults. */
-FPL_API int fpl_integrator_create(fpl_lattice *lattice, const char *method, int n_dev,
+/* Create an integrator at (t0, y0); y0 has length 2N(1 + n_dev). The lattice is only read: it
+ * must outlive the integrator and may be shared by several integrators and threads (each
+ * integrator owns its scratch). opt NULL means defaults. Errors also for invalid opt->events. */
+FPL_API int fpl_integrator_create(const fpl_lattice *lattice, const char *method, int n_dev,
                                   const fpl_integrator_options *opt, double t0, const double *y0,
                                   fpl_integrator **out);
 FPL_API void fpl_integrator_free(fpl_integrator **integrator);
@@ -78,11 +82,17 @@ FPL_API long fpl_integrator_steps(const fpl_integrator *integrator);
  * with the linear tangent dynamics: used for renormalisation and Gram-Schmidt). */
 FPL_API int fpl_integrator_transform_deviations(fpl_integrator *integrator, const double *m);
 
-/* Events (fputlab/events.h, attached to the lattice): when a criterion fires, advance/sample/run
- * return FPL_EVENT and stop there; the internal state and time are those of the event, and any
- * later advance is refused. fpl_integrator_event returns 1 (and the criterion index and time)
- * if an event stopped the integrator, else 0. */
+/* Events (fputlab/events.h, the criteria of opt->events): when a criterion fires,
+ * advance/sample/run return FPL_EVENT and stop there; the internal state and time are those of
+ * the event, and any later advance is refused. fpl_integrator_event returns 1 (and the criterion
+ * index and time) if an event stopped the integrator, else 0. */
 FPL_API int fpl_integrator_event(const fpl_integrator *integrator, int *index, double *t);
+/* Number of criteria, and the readable description of criterion i ("" out of range). */
+FPL_API int fpl_integrator_event_count(const fpl_integrator *integrator);
+FPL_API const char *fpl_integrator_event_describe(const fpl_integrator *integrator, int index);
+/* g_i(y) of the criteria (y of length >= 2N; only the orbit is read), with the integrator's
+ * scratch: not while another thread uses the integrator. */
+FPL_API int fpl_integrator_events_eval(fpl_integrator *integrator, const double *y, double *g);
 
 /* Steps taken and right-hand-side (force) evaluations so far. */
 FPL_API int fpl_integrator_counters(const fpl_integrator *integrator, long *steps,

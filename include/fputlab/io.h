@@ -54,7 +54,7 @@ FPL_API void fpl_run_info_init(fpl_run_info *info);
 typedef struct fpl_results fpl_results;
 
 /* Create (or truncate) a results file for runs of this lattice. */
-FPL_API int fpl_results_create(const char *path, fpl_lattice *lattice, const fpl_run_info *info,
+FPL_API int fpl_results_create(const char *path, const fpl_lattice *lattice, const fpl_run_info *info,
                                fpl_results **out);
 /* Continue a results file for a run restarted from `checkpoint` (written with this results
  * handle, see fpl_checkpoint_write): the file must describe the same lattice (N, model, alpha,
@@ -62,13 +62,13 @@ FPL_API int fpl_results_create(const char *path, fpl_lattice *lattice, const fpl
  * compared with the checkpoint's checksums). Those rows are copied into a fresh file that then
  * replaces the old one (rename; the old file is only read), and the rows of the chunk then in
  * progress come back from the checkpoint. */
-FPL_API int fpl_results_resume(const char *path, fpl_lattice *lattice, const fpl_run_info *info,
+FPL_API int fpl_results_resume(const char *path, const fpl_lattice *lattice, const fpl_run_info *info,
                                const char *checkpoint, fpl_results **out);
 /* The read-only part of fpl_results_resume: check that `path` and `checkpoint` belong together
  * and read back every row the resume keeps (each chunk's checksum verified). Changes nothing;
  * meant to be run where a fault inside libhdf5 on a damaged file cannot take down a long-running
  * process (fputlab's Python layer runs it in a child process first). */
-FPL_API int fpl_results_verify(const char *path, fpl_lattice *lattice, const fpl_run_info *info,
+FPL_API int fpl_results_verify(const char *path, const fpl_lattice *lattice, const fpl_run_info *info,
                                const char *checkpoint);
 FPL_API const char *fpl_results_errmsg(const fpl_results *results);
 

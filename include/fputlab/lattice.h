@@ -16,7 +16,11 @@
  * length 2N(1 + n_dev) with n_dev deviation vectors sharing the layout of (x, p).
  * p is the canonical momentum: p = x' for models 1 and 3, p = v x' for model 2.
  *
- * A handle owns scratch space: use one handle per thread. */
+ * A lattice is immutable physics (N, alpha, beta, model, v, fixed at create): every function
+ * but create/free only reads it, so one lattice can be shared by several runs and threads.
+ * Scratch belongs to the runs (integrators, chaos handles, fpl_system). The evaluation functions
+ * below are one-shot conveniences that allocate a temporary workspace per call: not for hot
+ * loops (integrate with fpl_integrator, or use the SUNDIALS callbacks with an fpl_system). */
 #ifndef FPUTLAB_LATTICE_H
 #define FPUTLAB_LATTICE_H
 
@@ -41,7 +45,8 @@ FPL_API int fpl_lattice_create(int n, double alpha, double beta, int model, cons
                                fpl_lattice **out);
 FPL_API void fpl_lattice_free(fpl_lattice **lattice);
 
-/* Message of the last failing call on this handle ("" if none). */
+/* A shared, read-only lattice keeps no message of its own: this is fpl_last_error(), the message
+ * of the last failing call in this thread ("" if none). */
 FPL_API const char *fpl_lattice_errmsg(const fpl_lattice *lattice);
 
 FPL_API int fpl_lattice_size(const fpl_lattice *lattice);
@@ -53,29 +58,29 @@ FPL_API const char *fpl_model_name(int model);
 FPL_API int fpl_lattice_get_v(const fpl_lattice *lattice, double *v, int n);
 
 /* Force F(x) = p' (length N). */
-FPL_API int fpl_lattice_force(fpl_lattice *lattice, const double *x, double *force);
+FPL_API int fpl_lattice_force(const fpl_lattice *lattice, const double *x, double *force);
 
 /* Tridiagonal Jacobian dF/dx at x: lower[j] = dF_{j+1}/dx_j, diag[j] = dF_j/dx_j,
  * upper[j] = dF_j/dx_{j+1} (0-based; lower and upper have N-1 entries). Symmetric for models 1-2. */
-FPL_API int fpl_lattice_force_jacobian(fpl_lattice *lattice, const double *x, double *lower,
+FPL_API int fpl_lattice_force_jacobian(const fpl_lattice *lattice, const double *x, double *lower,
                                        double *diag, double *upper);
 
 /* Tangent force: dforce = (dF/dx)(x) . dx for n_dev vectors dx stored back to back (n_dev*N). */
-FPL_API int fpl_lattice_tangent_force(fpl_lattice *lattice, const double *x, int n_dev,
+FPL_API int fpl_lattice_tangent_force(const fpl_lattice *lattice, const double *x, int n_dev,
                                       const double *dx, double *dforce);
 
 /* First-order right-hand side y' = f(y) with n_dev deviation vectors (variational equations):
  * x' = p/m, p' = F(x), dx' = dp/m, dp' = (dF/dx) dx.  y and ydot have length 2N(1+n_dev). */
-FPL_API int fpl_lattice_rhs(fpl_lattice *lattice, const double *y, int n_dev, double *ydot);
+FPL_API int fpl_lattice_rhs(const fpl_lattice *lattice, const double *y, int n_dev, double *ydot);
 
 /* Dense Jacobian d f / d y of the first-order system with n_dev deviation vectors, row-major,
  * (2N(1+n_dev))^2 entries; includes the second-derivative coupling of deviation vectors to x. */
-FPL_API int fpl_lattice_jacobian_dense(fpl_lattice *lattice, const double *y, int n_dev,
+FPL_API int fpl_lattice_jacobian_dense(const fpl_lattice *lattice, const double *y, int n_dev,
                                        double *jac);
 
 /* Energy of the state (length 2N). Models 1-2: the Hamiltonian (conserved). Model 3: the
  * energy of Eq. (Hamilt), 1/2 sum p^2 + sum V(d_j), a diagnostic that is not conserved. */
-FPL_API int fpl_lattice_energy(fpl_lattice *lattice, const double *y, double *energy);
+FPL_API int fpl_lattice_energy(const fpl_lattice *lattice, const double *y, double *energy);
 
 /* Velocities x' = p/m (length N) from the state (length 2N). */
 FPL_API int fpl_lattice_velocity(const fpl_lattice *lattice, const double *y, double *xdot);

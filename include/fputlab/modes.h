@@ -17,11 +17,14 @@ extern "C" {
 /* omega_k, k = 1..n, into omega[0..n-1]. */
 FPL_API int fpl_modes_omega(int n, double *omega);
 
+/* fpl_modes_transform and fpl_modes_energies allocate a temporary FFT workspace per call: for
+ * many states prefer fpl_integrator_sample (mode energies from the integrator's workspace). */
+
 /* Q = A x (also x = A Q, since A^{-1} = A). x and q of length N; may alias. */
-FPL_API int fpl_modes_transform(fpl_lattice *lattice, const double *x, double *q);
+FPL_API int fpl_modes_transform(const fpl_lattice *lattice, const double *x, double *q);
 
 /* Mode energies E_k, k = 1..N, of the state y (length 2N) into energies[0..N-1]. */
-FPL_API int fpl_modes_energies(fpl_lattice *lattice, const double *y, double *energies);
+FPL_API int fpl_modes_energies(const fpl_lattice *lattice, const double *y, double *energies);
 
 /* Single-mode initial state (length 2N): x_j = amplitude sin(pi k j/(N+1)), p = 0.
  * Its only non-zero mode coordinate is Q_k = amplitude sqrt((N+1)/2). */

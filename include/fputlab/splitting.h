@@ -35,8 +35,9 @@ FPL_API int fpl_splitting_order(const fpl_splitting *scheme);
 FPL_API int fpl_splitting_stages(const fpl_splitting *scheme);
 
 /* Advance y (length 2N(1+n_dev)) in place by nsteps steps of size dt. Checks the state for
- * NaN/Inf at the end (FPL_ERR_NONFINITE); y is then left as computed. */
-FPL_API int fpl_splitting_advance(const fpl_splitting *scheme, fpl_lattice *lattice, double *y,
+ * NaN/Inf at the end (FPL_ERR_NONFINITE); y is then left as computed. Allocates the scheme's
+ * workspace once per call (none inside the steps). */
+FPL_API int fpl_splitting_advance(const fpl_splitting *scheme, const fpl_lattice *lattice, double *y,
                                   int n_dev, double dt, long nsteps);
 
 /* For sampled runs with any method use fpl_integrator_* (fputlab/integrator.h). */

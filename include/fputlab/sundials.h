@@ -1,19 +1,23 @@
 /* fputlab — the lattice models in SUNDIALS callback form, for ARKODE and CVODE (SUNDIALS 6.x or
  * 7.x: the declarations use only types common to both, sunrealtype and sunindextype).
  *
- * user_data is an fpl_lattice*. The number of deviation vectors is read from the N_Vector
- * length, 2N(1 + n_dev), so the same callbacks integrate the orbit alone or the orbit with
- * its variational equations. Example (CVODE, BDF, dense Jacobian):
+ * user_data of every callback is an fpl_system* (fputlab/events.h): the read-only lattice, the
+ * stopping criteria (for fpl_sun_roots; NULL = none) and the kernels' scratch, so one system
+ * serves one solver at a time (one per thread; a lattice may be shared by several systems).
+ * The number of deviation vectors is read from the N_Vector length, 2N(1 + n_dev), so the same
+ * callbacks integrate the orbit alone or the orbit with its variational equations. Example
+ * (CVODE, BDF, dense Jacobian):
  *
+ *     fpl_system_create(lattice, NULL, &sys);
  *     CVodeInit(mem, fpl_sun_rhs, t0, y);
- *     CVodeSetUserData(mem, lattice);
+ *     CVodeSetUserData(mem, sys);
  *     A = SUNDenseMatrix(len, len, ctx);  LS = SUNLinSol_Dense(y, A, ctx);
  *     CVodeSetLinearSolver(mem, LS, A);  CVodeSetJacFn(mem, fpl_sun_jac);
  *
  * For a band matrix, take the bandwidths from fpl_sun_band_widths: with the [x, p] layout the
  * force Jacobian is tridiagonal but sits N columns away from the diagonal.
  * Callbacks return 0 on success, 1 (recoverable) if the state is not finite, -1 on a size
- * mismatch; the message is then on the lattice handle. */
+ * mismatch; the message is then on the system handle (fpl_system_errmsg). */
 #ifndef FPUTLAB_SUNDIALS_H
 #define FPUTLAB_SUNDIALS_H
 
@@ -41,7 +45,7 @@ extern "C" {
 FPL_API int fpl_sun_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data);
 
 /* The same system split for ARKODE's symplectic stepper SPRKStep (SUNDIALS >= 6.6):
- *     SPRKStepCreate(fpl_sun_force, fpl_sun_velocity, t0, y, ctx);  ARKodeSetUserData(mem, lattice);
+ *     SPRKStepCreate(fpl_sun_force, fpl_sun_velocity, t0, y, ctx);  ARKodeSetUserData(mem, sys);
  * fpl_sun_force (f1) fills the momentum blocks, p' = F(x) and dp' = J(x) dx for each deviation
  * vector, and depends on the positions only; fpl_sun_velocity (f2) fills the position blocks,
  * x' = p/m and dx' = dp/m, and depends on the momenta only; each writes zeros in the other blocks,
@@ -59,8 +63,8 @@ FPL_API int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, v
 FPL_API int fpl_sun_band_widths(const fpl_lattice *lattice, int n_dev, sunindextype *upper,
                                 sunindextype *lower);
 
-/* Root function (ARKRootFn / CVRootFn) of the stopping criteria attached with
- * fpl_lattice_set_events (fputlab/events.h): nrtfn = fpl_lattice_event_count(lattice); each g_i
+/* Root function (ARKRootFn / CVRootFn) of the system's stopping criteria (fpl_system_create,
+ * fputlab/events.h): nrtfn = fpl_system_event_count(sys); each g_i
  * decreases through zero when criterion i fires (use root direction -1). A non-finite state
  * gives g_i = -DBL_MAX, i.e. every criterion fired. */
 FPL_API int fpl_sun_roots(sunrealtype t, N_Vector y, sunrealtype *gout, void *user_data);

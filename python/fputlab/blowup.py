@@ -12,16 +12,8 @@ from ._display import ResultMixin
 from ._arrays import as_float_array
 from ._errors import check
 from ._native import ffi, lib
-from .integrate import Integrator, method_info
+from .integrate import CRITERIA, Integrator, event_set, method_info  # noqa: F401 (CRITERIA)
 from .lattice import Lattice, _int, _real
-
-#: criterion names -> C kinds
-CRITERIA = {
-    "energy": lib.FPL_EVENT_ENERGY,
-    "displacement": lib.FPL_EVENT_MAX_DISPLACEMENT,
-    "stretch": lib.FPL_EVENT_MAX_STRETCH,
-    "mode_energy": lib.FPL_EVENT_MODE_ENERGY,
-}
 
 
 def default_criteria(lattice: Lattice) -> list[tuple]:
@@ -30,26 +22,6 @@ def default_criteria(lattice: Lattice) -> list[tuple]:
     if lattice.alpha > 0:
         return [("stretch", 1.0 / lattice.alpha)]
     return [("displacement", 100.0)]
-
-
-def set_criteria(lattice: Lattice, criteria) -> None:
-    """Attach criteria [(name, threshold) or (\"mode_energy\", threshold, k)] to the lattice
-    (None or [] removes them)."""
-    ev = ffi.new("fpl_event_set *")
-    criteria = list(criteria or [])
-    if len(criteria) > 8:
-        raise ValueError(f"criteria: at most 8 (got {len(criteria)})")
-    for i, c in enumerate(criteria):
-        if not isinstance(c, (tuple, list)) or len(c) not in (2, 3):
-            raise TypeError(f"criteria[{i}] must be (name, threshold) or ('mode_energy', threshold, k)")
-        name = c[0]
-        if name not in CRITERIA:
-            raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
-        ev.kind[i] = CRITERIA[name]
-        ev.threshold[i] = _real(c[1], f"criteria[{i}] threshold")
-        ev.mode[i] = _int(c[2], f"criteria[{i}] mode k") if len(c) == 3 else 0
-    ev.n = len(criteria)
-    lattice._check(lib.fpl_lattice_set_events(lattice._h, ev))
 
 
 @dataclass(repr=False)
@@ -113,48 +85,45 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
     if not method_info(method)["adaptive"]:
         from .integrate import check_steps
         check_steps(t_max, _real(dt, "dt"), "t_max", t_max)
-    set_criteria(lattice, crit)
-    try:
-        integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol)
-        index, t_ev = ffi.new("int *"), ffi.new("double *")
-        # in segments: fixed-step ones of ~0.2 s (pausing changes nothing), adaptive ones in 100
-        # equal parts (deterministic); Ctrl-C is seen between them
-        import time
+    event_set(crit)                # bad criteria raise here
+    integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol, criteria=crit)
+    index, t_ev = ffi.new("int *"), ffi.new("double *")
+    # in segments: fixed-step ones of ~0.2 s (pausing changes nothing), adaptive ones in 100
+    # equal parts (deterministic); Ctrl-C is seen between them
+    import time
 
-        from tqdm.auto import tqdm
+    from tqdm.auto import tqdm
 
-        from ._errors import Interrupted, Pacer, first_span
-        pacer = Pacer(first_span(dt, lattice.N)) if not integ.adaptive else None
-        target, status = 0.0, 0
-        with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t",
-                  disable=None if progress else True,
-                  bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
-            try:
-                while target < t_max and status == 0:
-                    step = pacer.span if pacer else t_max / 100
-                    target = min(t_max, target + step)
-                    before, clock = integ.t, time.perf_counter()
-                    status = lib.fpl_integrator_advance(integ._h, target, ffi.NULL)
-                    if pacer:
-                        pacer.record(integ.t - before, time.perf_counter() - clock)
-                    bar.update(integ.t - bar.n)
-            except KeyboardInterrupt:
-                msg = f"interrupted (Ctrl-C) at t = {integ.t:.10g}"
-                raise Interrupted(msg, Blowup(False, float("nan"), "", integ.t, integ.state[0],
-                                              method, msg)) from None
-        fired = lib.fpl_integrator_event(integ._h, index, t_ev)
-        message = ffi.string(lib.fpl_integrator_errmsg(integ._h)).decode()
-        if status < 0:
-            check(status)           # a failure without an event is not a blow-up: raise
-        state = integ.state[0]
-        params = {"N": lattice.N, "model": lattice.model, "tau": lattice.tau, "seed": lattice.seed}
-        if fired:
-            return Blowup(True, t_ev[0], ffi.string(
-                lib.fpl_lattice_event_describe(lattice._h, index[0])).decode(), t_ev[0], state,
-                method, message, params)
-        return Blowup(False, float("nan"), "", t_max, state, method, "", params)
-    finally:
-        set_criteria(lattice, None)
+    from ._errors import Interrupted, Pacer, first_span
+    pacer = Pacer(first_span(dt, lattice.N)) if not integ.adaptive else None
+    target, status = 0.0, 0
+    with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t",
+              disable=None if progress else True,
+              bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
+        try:
+            while target < t_max and status == 0:
+                step = pacer.span if pacer else t_max / 100
+                target = min(t_max, target + step)
+                before, clock = integ.t, time.perf_counter()
+                status = lib.fpl_integrator_advance(integ._h, target, ffi.NULL)
+                if pacer:
+                    pacer.record(integ.t - before, time.perf_counter() - clock)
+                bar.update(integ.t - bar.n)
+        except KeyboardInterrupt:
+            msg = f"interrupted (Ctrl-C) at t = {integ.t:.10g}"
+            raise Interrupted(msg, Blowup(False, float("nan"), "", integ.t, integ.state[0],
+                                          method, msg)) from None
+    fired = lib.fpl_integrator_event(integ._h, index, t_ev)
+    message = ffi.string(lib.fpl_integrator_errmsg(integ._h)).decode()
+    if status < 0:
+        check(status)           # a failure without an event is not a blow-up: raise
+    state = integ.state[0]
+    params = {"N": lattice.N, "model": lattice.model, "tau": lattice.tau, "seed": lattice.seed}
+    if fired:
+        return Blowup(True, t_ev[0], ffi.string(
+            lib.fpl_integrator_event_describe(integ._h, index[0])).decode(), t_ev[0], state,
+            method, message, params)
+    return Blowup(False, float("nan"), "", t_max, state, method, "", params)
 
 
 def realisation_tau_c(N: int, seed: int, alpha: float = 0.25, disorder: str = "gaussian") -> float:

@@ -15,6 +15,7 @@ from ._arrays import as_float_array, ptr
 from ._errors import check
 from ._native import ffi, lib
 from .chaos import ChaosResult
+from .integrate import event_set
 from .lattice import Lattice, _int, _real
 
 #: methods the batch kernel runs (splitting schemes with the kinetic drift)
@@ -64,7 +65,7 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     n_dev, renorm_interval, n_samples, t_first_sample, sali_threshold, stop_when_chaotic, seed, t0
         As in `fputlab.chaos.lyapunov` (renorm_interval must be >= dt).
     criteria : list, optional
-        Stopping criteria for blow-up, as in `fputlab.blowup.set_criteria` (e.g.
+        Stopping criteria for blow-up, as in `fputlab.blowup.blowup_time` (e.g.
         ``[("stretch", 4.0)]``); they are attached to every lattice. Default: whatever the lattices
         carry (none for a fresh Lattice). "mode_energy" is not supported here.
     progress : bool
@@ -107,10 +108,7 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     n_dev = _int(n_dev, "n_dev")
     if n_dev < 1:
         raise ValueError(f"n_dev must be >= 1 (got {n_dev})")
-    if criteria is not None:
-        from .blowup import set_criteria
-        for lat in lattices:
-            set_criteria(lat, criteria)
+    events = event_set(criteria)   # kept alive until the batch is created (C copies it)
     y = _states(y0, "y0", R, (2 * N,), lambda r: lattices[r].mode_state())
     w = ffi.NULL
     if w0 is not None:
@@ -119,30 +117,31 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     io = ffi.new("fpl_integrator_options *")
     lib.fpl_integrator_options_init(io)
     io.dt = 0.01 if dt is None else _real(dt, "dt")
+    io.events = events
     bo = ffi.new("fpl_chaos_batch_options *")
     lib.fpl_chaos_batch_options_init(bo)
-    bo.t_end = _real(t_end, "t_end")
-    bo.renorm_interval = _real(renorm_interval, "renorm_interval")
-    bo.n_samples = _int(n_samples, "n_samples")
-    bo.t_first_sample = _real(t_first_sample, "t_first_sample")
-    bo.n_dev = n_dev
-    bo.sali_threshold = _real(sali_threshold, "sali_threshold")
-    bo.stop_when_chaotic = bool(stop_when_chaotic)
+    bo.chaos.t_end = _real(t_end, "t_end")
+    bo.chaos.renorm_interval = _real(renorm_interval, "renorm_interval")
+    bo.chaos.n_samples = _int(n_samples, "n_samples")
+    bo.chaos.t_first_sample = _real(t_first_sample, "t_first_sample")
+    bo.chaos.n_dev = n_dev
+    bo.chaos.sali_threshold = _real(sali_threshold, "sali_threshold")
+    bo.chaos.stop_when_chaotic = bool(stop_when_chaotic)
     seed = _int(seed, "seed")
     if seed < 0:
         raise ValueError(f"seed must be >= 0 (got {seed})")
-    bo.seed = seed
+    bo.chaos.seed = seed
     if blowup_stretch is not None:
-        bo.blowup_stretch = _real(blowup_stretch, "blowup_stretch")
+        bo.chaos.blowup_stretch = _real(blowup_stretch, "blowup_stretch")
     t0 = _real(t0, "t0")
     handles = ffi.new("fpl_lattice *[]", [lat._h for lat in lattices])
     out = ffi.new("fpl_chaos_batch **")
     check(lib.fpl_chaos_batch_create(handles, R, method.encode(), io, t0, ptr(y), w, bo, out))
     batch = ffi.gc(out[0], lambda h: lib.fpl_chaos_batch_free(ffi.new("fpl_chaos_batch **", h)))
-    S = max(bo.n_samples, 1)
+    S = max(bo.chaos.n_samples, 1)
     t, mle, sali, gali = (np.full((R, S), np.nan) for _ in range(4))
     arrays = [ptr(a) for a in (t, mle, sali, gali)]
-    span = bo.t_end - t0
+    span = bo.chaos.t_end - t0
     if progress:
         from tqdm.auto import tqdm
         with tqdm(total=span, desc=f"chaos batch R={R} N={N}", unit="t", disable=None,
@@ -153,7 +152,7 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
                 if lib.fpl_chaos_batch_done(batch):
                     break
     else:
-        check(lib.fpl_chaos_batch_advance(batch, bo.t_end, *arrays))
+        check(lib.fpl_chaos_batch_advance(batch, bo.chaos.t_end, *arrays))
     results = []
     res = ffi.new("fpl_chaos_batch_result *")
     for r, lat in enumerate(lattices):

@@ -14,6 +14,38 @@ from ._native import ffi, lib
 from .lattice import C_LONG, Lattice, _int, _real
 
 
+#: criterion names -> C kinds
+CRITERIA = {
+    "energy": lib.FPL_EVENT_ENERGY,
+    "displacement": lib.FPL_EVENT_MAX_DISPLACEMENT,
+    "stretch": lib.FPL_EVENT_MAX_STRETCH,
+    "mode_energy": lib.FPL_EVENT_MODE_ENERGY,
+}
+
+
+def event_set(criteria):
+    """A C ``fpl_event_set *`` for criteria [(name, threshold) or ("mode_energy", threshold, k)],
+    or ffi.NULL for None or []. The set is an option of a run (``fpl_integrator_options.events``);
+    the C library checks thresholds and modes when the run is created."""
+    criteria = list(criteria or [])
+    if not criteria:
+        return ffi.NULL
+    if len(criteria) > 8:
+        raise ValueError(f"criteria: at most 8 (got {len(criteria)})")
+    ev = ffi.new("fpl_event_set *")
+    for i, c in enumerate(criteria):
+        if not isinstance(c, (tuple, list)) or len(c) not in (2, 3):
+            raise TypeError(f"criteria[{i}] must be (name, threshold) or ('mode_energy', threshold, k)")
+        name = c[0]
+        if name not in CRITERIA:
+            raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
+        ev.kind[i] = CRITERIA[name]
+        ev.threshold[i] = _real(c[1], f"criteria[{i}] threshold")
+        ev.mode[i] = _int(c[2], f"criteria[{i}] mode k") if len(c) == 3 else 0
+    ev.n = len(criteria)
+    return ev
+
+
 def methods() -> list[str]:
     """Names of all integration methods."""
     return [ffi.string(lib.fpl_method_name(i)).decode() for i in range(lib.fpl_method_count())]
@@ -52,11 +84,13 @@ class Integrator:
         Tolerances of the adaptive methods.
     max_steps : int, optional
         Most steps per call of an adaptive back end (0: its default).
+    criteria : list of tuple, optional
+        Stopping criteria of this run, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`).
     """
 
     def __init__(self, lattice: Lattice, y0, *, method: str = "yoshida4", t0: float = 0.0,
                  dt: float | None = None, rtol: float = 1e-10, atol: float = 1e-12,
-                 max_steps: int = 0):
+                 max_steps: int = 0, criteria=None):
         if not isinstance(lattice, Lattice):
             raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
         info = method_info(method)
@@ -71,6 +105,8 @@ class Integrator:
             opt.dt = 0.0
         opt.rtol, opt.atol = _real(rtol, "rtol"), _real(atol, "atol")
         opt.max_steps = _int(max_steps, "max_steps", C_LONG)
+        events = event_set(criteria)   # alive until fpl_integrator_create has copied it
+        opt.events = events
         self.dt = opt.dt
         out = ffi.new("fpl_integrator **")
         check(lib.fpl_integrator_create(lattice._h, method.encode(), n_dev, opt,
@@ -154,7 +190,7 @@ class Integrator:
         if not lib.fpl_integrator_event(self._h, index, t):
             return None
         return {"time": t[0], "index": index[0], "criterion": ffi.string(
-            lib.fpl_lattice_event_describe(self.lattice._h, index[0])).decode()}
+            lib.fpl_integrator_event_describe(self._h, index[0])).decode()}
 
 
 @dataclass
@@ -384,23 +420,19 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
             raise ValueError(f"dt = {dt:g} is larger than the sample spacing {small.min():g}: a "
                              "fixed-step method only reaches multiples of dt (use a smaller dt or "
                              "sample less often)")
-    from .blowup import set_criteria
-    set_criteria(lattice, stop_on)
-    try:
-        return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
-                          chunk, on_failure, progress)
-    finally:
-        if stop_on:
-            set_criteria(lattice, None)
+    event_set(stop_on)             # bad criteria raise here, before anything runs
+    return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
+                      chunk, on_failure, progress, stop_on)
 
 
 def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
-               on_failure, progress=False):
+               on_failure, progress=False, criteria=None):
     import time
 
     from ._errors import Interrupted, Pacer, first_span
     N = lattice.N
-    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
+    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol,
+                       criteria=criteria)
     parts = {"t": [], "ek": [], "en": [], "st": []}
     message, completed, status = "", True, lib.FPL_ERR_NONFINITE
     bar = None

@@ -26,7 +26,7 @@ import numpy as np
 from ._arrays import as_float_array, ptr
 from ._errors import FputlabError, check, last_error
 from ._native import ffi, lib
-from .integrate import Integrator, method_info
+from .integrate import Integrator, event_set, method_info
 from .lattice import C_LONG, C_U64, Lattice, _int, _real
 
 #: how a run ended, as written to the file's `status` attribute
@@ -406,91 +406,87 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     state0 = orbit[None, :] if deviations is None else np.concatenate(
         [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
 
-    from .blowup import set_criteria
-    set_criteria(lattice, stop_on)
-    try:
-        integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol)
-        info = _RunInfo(lattice, "simulate", method, integ.dt, rtol, atol, 0.0, integ.n_dev,
-                        store_states, chunk_rows)
-        resumed = None
-        if resuming:
-            # the checkpoint's own sampling (its extras: sample spacing, final time) decides
-            # how the run continues; everything is checked before the results file is touched
-            settings = load_checkpoint(checkpoint, integ._h, info, 2)
-            if settings.size == 2:
-                ck_every = float(settings[0])
-                if sample_every is not None and every != ck_every:
-                    raise ValueError(f"sample_every: the checkpoint's run samples every "
-                                     f"{ck_every:.17g}, this run asks for {every:.17g}; the file "
-                                     "cannot mix two sample grids (refused, nothing changed)")
-                every = ck_every
-            if t_end < integ.t:
-                raise ValueError(f"t_end = {t_end:.17g} is before the checkpoint's time "
-                                 f"t = {integ.t:.17g}: nothing to continue (refused, nothing "
-                                 "changed)")
-            resumed = integ.t
-            _verify_resume(out, lattice, info, checkpoint)
-            results = ResultsFile(out, lattice, info, resume_from=checkpoint)
-        else:
-            results = ResultsFile(out, lattice, info)
-        settings = np.array([every, t_end])
-        n_samples = int(math.floor(t_end / every * (1 + 1e-12))) + 1
-        sample_t = lambda i: min(i * every, t_end)
-        seg = math.inf if adaptive else max_steps_per_segment * dt
-        summary = RunSummary("completed", integ.t, 0, resumed, 0, path=os.fspath(out))
-        with results, _Stopper() as stopper:
-            bar = _progress(t_end, f"simulate N={N}", progress, integ.t)
-            cadence = _Cadence(checkpoint, k_steps, k_seconds, integ.steps)
+    event_set(stop_on)             # bad criteria raise here
+    integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol,
+                       criteria=stop_on)
+    info = _RunInfo(lattice, "simulate", method, integ.dt, rtol, atol, 0.0, integ.n_dev,
+                    store_states, chunk_rows)
+    resumed = None
+    if resuming:
+        # the checkpoint's own sampling (its extras: sample spacing, final time) decides
+        # how the run continues; everything is checked before the results file is touched
+        settings = load_checkpoint(checkpoint, integ._h, info, 2)
+        if settings.size == 2:
+            ck_every = float(settings[0])
+            if sample_every is not None and every != ck_every:
+                raise ValueError(f"sample_every: the checkpoint's run samples every "
+                                 f"{ck_every:.17g}, this run asks for {every:.17g}; the file "
+                                 "cannot mix two sample grids (refused, nothing changed)")
+            every = ck_every
+        if t_end < integ.t:
+            raise ValueError(f"t_end = {t_end:.17g} is before the checkpoint's time "
+                             f"t = {integ.t:.17g}: nothing to continue (refused, nothing "
+                             "changed)")
+        resumed = integ.t
+        _verify_resume(out, lattice, info, checkpoint)
+        results = ResultsFile(out, lattice, info, resume_from=checkpoint)
+    else:
+        results = ResultsFile(out, lattice, info)
+    settings = np.array([every, t_end])
+    n_samples = int(math.floor(t_end / every * (1 + 1e-12))) + 1
+    sample_t = lambda i: min(i * every, t_end)
+    seg = math.inf if adaptive else max_steps_per_segment * dt
+    summary = RunSummary("completed", integ.t, 0, resumed, 0, path=os.fspath(out))
+    with results, _Stopper() as stopper:
+        bar = _progress(t_end, f"simulate N={N}", progress, integ.t)
+        cadence = _Cadence(checkpoint, k_steps, k_seconds, integ.steps)
 
-            def save():
-                write_checkpoint(checkpoint, integ._h, info, settings, results=results)
-                summary.checkpoints += 1
-                cadence.mark(integ.steps)
+        def save():
+            write_checkpoint(checkpoint, integ._h, info, settings, results=results)
+            summary.checkpoints += 1
+            cadence.mark(integ.steps)
 
-            i = results.count
-            try:
-                while i < n_samples:
-                    target = sample_t(i)
-                    # long gaps between samples go in segments (checkpoints, signals, progress);
-                    # fixed-step grid states do not depend on where a run pauses
-                    while target - integ.t > seg and stopper.signum is None:
-                        integ.advance(integ.t + seg)
-                        if bar is not None:
-                            bar.update(integ.t - bar.n)
-                        if cadence.due(integ.steps):
-                            save()
-                    if stopper.signum is not None:
-                        break
-                    y = integ.advance(target)
-                    ev = integ.event
-                    results.append(ev["time"] if ev else target, y)
-                    i += 1
-                    if ev:
-                        summary.status, summary.event = "event", ev
-                        summary.message = f"{ev['criterion']} at t = {ev['time']:.10g}"
-                        results.set_event(ev["time"], ev["criterion"])
-                        break
+        i = results.count
+        try:
+            while i < n_samples:
+                target = sample_t(i)
+                # long gaps between samples go in segments (checkpoints, signals, progress);
+                # fixed-step grid states do not depend on where a run pauses
+                while target - integ.t > seg and stopper.signum is None:
+                    integ.advance(integ.t + seg)
                     if bar is not None:
                         bar.update(integ.t - bar.n)
                     if cadence.due(integ.steps):
                         save()
-            except FputlabError as err:   # blow-up without an event, back-end failure
-                summary.status, summary.message = "failed", str(err)
-            finally:
+                if stopper.signum is not None:
+                    break
+                y = integ.advance(target)
+                ev = integ.event
+                results.append(ev["time"] if ev else target, y)
+                i += 1
+                if ev:
+                    summary.status, summary.event = "event", ev
+                    summary.message = f"{ev['criterion']} at t = {ev['time']:.10g}"
+                    results.set_event(ev["time"], ev["criterion"])
+                    break
                 if bar is not None:
-                    bar.close()
-            if stopper.signum is not None and summary.status == "completed":
-                summary.status = "interrupted"
-                summary.message = f"stopped by {signal.Signals(stopper.signum).name} at t = {integ.t:.10g}"
-            if checkpoint is not None and summary.status in ("completed", "interrupted"):
-                save()
-            summary.t_reached = integ.t if summary.status != "event" else summary.event["time"]
-            summary.samples = results.count
-            results.set_status(summary.status, summary.message)
-        return summary
-    finally:
-        if stop_on:
-            set_criteria(lattice, None)
+                    bar.update(integ.t - bar.n)
+                if cadence.due(integ.steps):
+                    save()
+        except FputlabError as err:   # blow-up without an event, back-end failure
+            summary.status, summary.message = "failed", str(err)
+        finally:
+            if bar is not None:
+                bar.close()
+        if stopper.signum is not None and summary.status == "completed":
+            summary.status = "interrupted"
+            summary.message = f"stopped by {signal.Signals(stopper.signum).name} at t = {integ.t:.10g}"
+        if checkpoint is not None and summary.status in ("completed", "interrupted"):
+            save()
+        summary.t_reached = integ.t if summary.status != "event" else summary.event["time"]
+        summary.samples = results.count
+        results.set_status(summary.status, summary.message)
+    return summary
 
 
 def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida4",

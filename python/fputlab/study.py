@@ -284,8 +284,9 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
     io.dt = spec.dt
     bo = ffi.new("fpl_chaos_batch_options *")
     lib.fpl_chaos_batch_options_init(bo)
-    bo.t_end, bo.renorm_interval, bo.n_samples = spec.t_end, spec.renorm_interval, S
-    bo.sali_threshold, bo.stop_when_chaotic = spec.sali_threshold, spec.stop_when_chaotic
+    c = bo.chaos                      # a view into bo
+    c.t_end, c.renorm_interval, c.n_samples = spec.t_end, spec.renorm_interval, S
+    c.sali_threshold, c.stop_when_chaotic = spec.sali_threshold, spec.stop_when_chaotic
     y0 = np.ascontiguousarray(np.stack([lat.mode_state() for lat in lats]))
     handles = ffi.new("fpl_lattice *[]", [lat._h for lat in lats])
     out = ffi.new("fpl_chaos_batch **")

@@ -39,39 +39,39 @@ static void compare_with_single(fpl_lattice **lats, int R, const char *method, d
     fpl_integrator_options io;
     fpl_integrator_options_init(&io);
     io.dt = dt;
-    double *bt = calloc((size_t)R * bo->n_samples, sizeof(double));
-    double *bm = calloc((size_t)R * bo->n_samples, sizeof(double));
-    double *bs = calloc((size_t)R * bo->n_samples, sizeof(double));
-    double *bg = calloc((size_t)R * bo->n_samples, sizeof(double));
+    double *bt = calloc((size_t)R * bo->chaos.n_samples, sizeof(double));
+    double *bm = calloc((size_t)R * bo->chaos.n_samples, sizeof(double));
+    double *bs = calloc((size_t)R * bo->chaos.n_samples, sizeof(double));
+    double *bg = calloc((size_t)R * bo->chaos.n_samples, sizeof(double));
     fpl_chaos_batch *b = NULL;
     CHECK_OK(fpl_chaos_batch_create(lats, R, method, &io, 0.0, y0, w0, bo, &b));
     if (!b) return;
     /* in three segments, as a resumable run would */
-    CHECK_OK(fpl_chaos_batch_advance(b, bo->t_end / 3, bt, bm, bs, bg));
-    CHECK_OK(fpl_chaos_batch_advance(b, bo->t_end / 2, bt, bm, bs, bg));
-    CHECK_OK(fpl_chaos_batch_advance(b, bo->t_end, bt, bm, bs, bg));
+    CHECK_OK(fpl_chaos_batch_advance(b, bo->chaos.t_end / 3, bt, bm, bs, bg));
+    CHECK_OK(fpl_chaos_batch_advance(b, bo->chaos.t_end / 2, bt, bm, bs, bg));
+    CHECK_OK(fpl_chaos_batch_advance(b, bo->chaos.t_end, bt, bm, bs, bg));
     CHECK(fpl_chaos_batch_done(b), "%s: batch not done", what);
     fpl_chaos_options so;
     fpl_chaos_options_init(&so);
-    so.t_end = bo->t_end;
-    so.renorm_interval = bo->renorm_interval;
-    so.n_samples = bo->n_samples;
-    so.n_dev = bo->n_dev;
-    so.seed = bo->seed;
-    so.sali_threshold = bo->sali_threshold;
+    so.t_end = bo->chaos.t_end;
+    so.renorm_interval = bo->chaos.renorm_interval;
+    so.n_samples = bo->chaos.n_samples;
+    so.n_dev = bo->chaos.n_dev;
+    so.seed = bo->chaos.seed;
+    so.sali_threshold = bo->chaos.sali_threshold;
     double worst = 0.0;
     for (int r = 0; r < R; r++) {
         double st[NS], sm[NS], ss[NS], sg[NS];
         fpl_chaos_result sres;
         fpl_chaos_batch_result bres;
         int status = fpl_chaos_run(lats[r], method, &io, 0.0, y0 + (size_t)r * len,
-                                   w0 ? w0 + (size_t)r * bo->n_dev * len : NULL, &so, st, sm, ss,
+                                   w0 ? w0 + (size_t)r * bo->chaos.n_dev * len : NULL, &so, st, sm, ss,
                                    sg, &sres);
         CHECK(status == FPL_OK, "%s: single run %d: %s", what, r, fpl_last_error());
         CHECK_OK(fpl_chaos_batch_get_result(b, r, &bres));
         CHECK(bres.n_samples == sres.n_samples, "%s lane %d: %d samples vs %d", what, r,
               bres.n_samples, sres.n_samples);
-        const size_t o = (size_t)r * bo->n_samples;
+        const size_t o = (size_t)r * bo->chaos.n_samples;
         int ns = sres.n_samples < bres.n_samples ? sres.n_samples : bres.n_samples;
         CHECK(rel_diff(bt + o, st, ns) == 0.0, "%s lane %d: sample times differ", what, r);
         double d = fmax(rel_diff(bm + o, sm, ns), rel_diff(bs + o, ss, ns));
@@ -109,33 +109,33 @@ static void test_agreement(void)
 {
     fpl_chaos_batch_options bo;
     fpl_chaos_batch_options_init(&bo);
-    bo.n_samples = NS;
+    bo.chaos.n_samples = NS;
     const double amp[6] = {1, 1, 1, 1, 1, 1};
     /* model 3 (the paper's chaos study), 6 disorder draws, Yoshida 4 */
     {
         fpl_lattice *l[6];
         for (int r = 0; r < 6; r++) l[r] = disordered(16, FPL_MODEL_NONLINEAR, 10.0, (unsigned long)r + 1);
         double *y0 = mode_states(l, 6, amp);
-        bo.t_end = 2000.0;
+        bo.chaos.t_end = 2000.0;
         compare_with_single(l, 6, "yoshida4", 0.01, y0, NULL, &bo, 1e-12, "nonlinear N=16 yoshida4");
         /* srkn14a6 at dt = 0.4: renormalisations at t = 1, 2, ... fall off the grid (partial
          * steps from copies) */
-        bo.t_end = 5000.3;
+        bo.chaos.t_end = 5000.3;
         compare_with_single(l, 6, "srkn14a6", 0.4, y0, NULL, &bo, 1e-12, "nonlinear N=16 srkn14a6 dt=0.4");
         /* three deviation vectors (GALI_3) and given w0 */
         double *w0 = malloc(sizeof(double) * 6 * 3 * 32);
         for (int i = 0; i < 6 * 3 * 32; i++) w0[i] = check_uniform();
-        bo.n_dev = 3;
-        bo.t_end = 1000.0;
+        bo.chaos.n_dev = 3;
+        bo.chaos.t_end = 1000.0;
         compare_with_single(l, 6, "aba864", 0.0625, y0, w0, &bo, 1e-12, "nonlinear N=16 aba864 n_dev=3 w0");
-        bo.n_dev = 1;
+        bo.chaos.n_dev = 1;
         compare_with_single(l, 5, "leapfrog", 0.005, y0, w0, &bo, 1e-12, "nonlinear N=16 leapfrog n_dev=1");
-        bo.n_dev = 2;
+        bo.chaos.n_dev = 2;
         free(w0);
         /* a group holding one running lane at N >= 12 is stepped by the single-orbit code */
         fpl_lattice *l64 = disordered(64, FPL_MODEL_NONLINEAR, 10.0, 5);
         double *y64 = mode_states(&l64, 1, amp);
-        bo.t_end = 500.0;
+        bo.chaos.t_end = 500.0;
         compare_with_single(&l64, 1, "yoshida4", 0.01, y64, NULL, &bo, 1e-12, "nonlinear N=64 one lane");
         free(y64);
         fpl_lattice_free(&l64);
@@ -148,8 +148,8 @@ static void test_agreement(void)
         for (int r = 0; r < 3; r++) l[r] = disordered(5, FPL_MODEL_HAMILTONIAN, 20.0, (unsigned long)r + 7);
         const double a3[3] = {1.0, 2.0, 3.0};
         double *y0 = mode_states(l, 3, a3);
-        bo.t_end = 3000.0;
-        bo.renorm_interval = 2.5;
+        bo.chaos.t_end = 3000.0;
+        bo.chaos.renorm_interval = 2.5;
         compare_with_single(l, 3, "yoshida4", 0.01, y0, NULL, &bo, 1e-12, "hamiltonian N=5 yoshida4");
         free(y0);
         for (int r = 0; r < 3; r++) fpl_lattice_free(&l[r]);
@@ -159,8 +159,8 @@ static void test_agreement(void)
         double a9[9];
         for (int r = 0; r < 9; r++) { hl[r] = h; a9[r] = 0.5 + 0.5 * r; }
         y0 = mode_states(hl, 9, a9);
-        bo.renorm_interval = 1.0;
-        bo.t_end = 4000.0;
+        bo.chaos.renorm_interval = 1.0;
+        bo.chaos.t_end = 4000.0;
         compare_with_single(hl, 9, "srkn14a6", 0.4, y0, NULL, &bo, 1e-12, "homogeneous N=8 srkn14a6 amplitudes");
         free(y0);
         fpl_lattice_free(&h);
@@ -178,18 +178,18 @@ static void test_chaotic_orbit(void)
     double *y0 = mode_states(l, 2, amp);
     fpl_chaos_batch_options bo;
     fpl_chaos_batch_options_init(&bo);
-    bo.t_end = 6e4; /* SALI < 1e-8 at t ~ 5.4e4 */
-    bo.n_samples = NS;
-    bo.stop_when_chaotic = 1;
+    bo.chaos.t_end = 6e4; /* SALI < 1e-8 at t ~ 5.4e4 */
+    bo.chaos.n_samples = NS;
+    bo.chaos.stop_when_chaotic = 1;
     double sali[2 * NS];
     fpl_chaos_batch *b = NULL;
     CHECK_OK(fpl_chaos_batch_create(l, 2, "yoshida4", NULL, 0.0, y0, NULL, &bo, &b));
-    CHECK_OK(fpl_chaos_batch_advance(b, bo.t_end, NULL, NULL, sali, NULL));
+    CHECK_OK(fpl_chaos_batch_advance(b, bo.chaos.t_end, NULL, NULL, sali, NULL));
     fpl_chaos_batch_result res[2];
     for (int r = 0; r < 2; r++) CHECK_OK(fpl_chaos_batch_get_result(b, r, &res[r]));
     fpl_chaos_options so;
     fpl_chaos_options_init(&so);
-    so.t_end = bo.t_end;
+    so.t_end = bo.chaos.t_end;
     so.n_samples = NS;
     so.stop_when_chaotic = 1;
     fpl_chaos_result single;
@@ -200,10 +200,10 @@ static void test_chaotic_orbit(void)
     CHECK(res[0].t_chaotic == single.t_chaotic, "t_chaotic %g vs single %g", res[0].t_chaotic,
           single.t_chaotic);
     /* stopped one renormalisation after the SALI collapse (the confirmation) */
-    CHECK(res[0].t_final == res[0].t_chaotic + 1.0 && res[0].t_final < bo.t_end,
+    CHECK(res[0].t_final == res[0].t_chaotic + 1.0 && res[0].t_final < bo.chaos.t_end,
           "stopped at %g (chaotic at %g)", res[0].t_final, res[0].t_chaotic);
     CHECK(sali[res[0].n_samples - 1] < 1e-7, "last sample SALI %g", sali[res[0].n_samples - 1]);
-    CHECK(!res[1].chaotic && res[1].t_final == bo.t_end, "amplitude 1: chaotic %d, t_final %g",
+    CHECK(!res[1].chaotic && res[1].t_final == bo.chaos.t_end, "amplitude 1: chaotic %d, t_final %g",
           res[1].chaotic, res[1].t_final);
     printf("homogeneous N=8 amplitude 4: chaotic at t = %g (single-orbit run: %g), lambda = %.4f\n",
            res[0].t_chaotic, single.t_chaotic, res[0].mle);
@@ -226,17 +226,17 @@ static void test_early_exit(void)
     for (int i = 0; i < 6 * 16; i++) y0[i] = (big[i / 16] ? 1.5 : 0.02) * check_uniform();
     fpl_chaos_batch_options bo;
     fpl_chaos_batch_options_init(&bo);
-    bo.t_end = 2000.0;
-    bo.n_samples = NS;
-    bo.stop_when_chaotic = 1;
+    bo.chaos.t_end = 2000.0;
+    bo.chaos.n_samples = NS;
+    bo.chaos.stop_when_chaotic = 1;
     double mle[6 * NS], sali[6 * NS];
     fpl_chaos_batch *b = NULL;
     CHECK_OK(fpl_chaos_batch_create(l, 6, "yoshida4", NULL, 0.0, y0, NULL, &bo, &b));
-    CHECK_OK(fpl_chaos_batch_advance(b, bo.t_end, NULL, mle, sali, NULL));
+    CHECK_OK(fpl_chaos_batch_advance(b, bo.chaos.t_end, NULL, mle, sali, NULL));
     fpl_chaos_batch_result res[6];
     for (int r = 0; r < 6; r++) {
         CHECK_OK(fpl_chaos_batch_get_result(b, r, &res[r]));
-        CHECK(res[r].chaotic == big[r] && (res[r].t_final < bo.t_end) == big[r],
+        CHECK(res[r].chaotic == big[r] && (res[r].t_final < bo.chaos.t_end) == big[r],
               "lane %d: chaotic %d, t_final %g", r, res[r].chaotic, res[r].t_final);
     }
     fpl_lattice *l4[4] = {h, h, h, h};
@@ -245,7 +245,7 @@ static void test_early_exit(void)
     for (int i = 0; i < 4; i++) memcpy(y4 + 16 * i, y0 + 16 * reg[i], sizeof(double) * 16);
     fpl_chaos_batch *b4 = NULL;
     CHECK_OK(fpl_chaos_batch_create(l4, 4, "yoshida4", NULL, 0.0, y4, NULL, &bo, &b4));
-    CHECK_OK(fpl_chaos_batch_advance(b4, bo.t_end, NULL, m4, s4, NULL));
+    CHECK_OK(fpl_chaos_batch_advance(b4, bo.chaos.t_end, NULL, m4, s4, NULL));
     for (int i = 0; i < 4; i++) {
         fpl_chaos_batch_result r4;
         CHECK_OK(fpl_chaos_batch_get_result(b4, i, &r4));
@@ -258,7 +258,7 @@ static void test_early_exit(void)
     bo.compact = 0;
     double m0[6 * NS];
     CHECK_OK(fpl_chaos_batch_create(l, 6, "yoshida4", NULL, 0.0, y0, NULL, &bo, &b0));
-    CHECK_OK(fpl_chaos_batch_advance(b0, bo.t_end, NULL, m0, NULL, NULL));
+    CHECK_OK(fpl_chaos_batch_advance(b0, bo.chaos.t_end, NULL, m0, NULL, NULL));
     for (int r = 0; r < 6; r++)
         CHECK(memcmp(m0 + r * NS, mle + r * NS, sizeof(double) * (size_t)res[r].n_samples) == 0,
               "compact = 0: lane %d differs", r);
@@ -280,23 +280,24 @@ static void test_blowup(void)
     double *y0 = mode_states(l, 3, amp);
     fpl_chaos_batch_options bo;
     fpl_chaos_batch_options_init(&bo);
-    bo.t_end = 3000.0;
-    bo.n_samples = NS;
+    bo.chaos.t_end = 3000.0;
+    bo.chaos.n_samples = NS;
     /* variant 0: the default stretch check at renormalisations (1/alpha); 1: no check, only the
      * non-finite state; 2: the bond-stretch criterion as a lattice event */
     for (int variant = 0; variant < 3; variant++) {
         const int with_event = variant == 2;
-        bo.blowup_stretch = variant == 1 ? -1.0 : 0.0;
-        if (with_event) {
-            fpl_event_set ev = {1, {FPL_EVENT_MAX_STRETCH}, {4.0}, {0}};
-            for (int r = 0; r < 3; r++) CHECK_OK(fpl_lattice_set_events(l[r], &ev));
-        }
+        bo.chaos.blowup_stretch = variant == 1 ? -1.0 : 0.0;
+        /* the criteria are a run option: one set for the batch and the single-orbit runs */
+        fpl_event_set ev = {1, {FPL_EVENT_MAX_STRETCH}, {4.0}, {0}};
+        fpl_integrator_options io;
+        fpl_integrator_options_init(&io);
+        io.events = with_event ? &ev : NULL;
         for (int stop = 0; stop < 2; stop++) {
-            bo.stop_when_chaotic = stop;
+            bo.chaos.stop_when_chaotic = stop;
             fpl_chaos_batch *b = NULL;
             double mle[3 * NS];
-            CHECK_OK(fpl_chaos_batch_create(l, 3, "yoshida4", NULL, 0.0, y0, NULL, &bo, &b));
-            CHECK_OK(fpl_chaos_batch_advance(b, bo.t_end, NULL, mle, NULL, NULL));
+            CHECK_OK(fpl_chaos_batch_create(l, 3, "yoshida4", &io, 0.0, y0, NULL, &bo, &b));
+            CHECK_OK(fpl_chaos_batch_advance(b, bo.chaos.t_end, NULL, mle, NULL, NULL));
             fpl_chaos_batch_result r;
             CHECK_OK(fpl_chaos_batch_get_result(b, 1, &r));
             CHECK(r.blew_up && !r.chaotic && isnan(r.t_chaotic) && r.done,
@@ -309,12 +310,12 @@ static void test_blowup(void)
                 /* the single-orbit path ends the same orbit the same way at the same time */
                 fpl_chaos_options so;
                 fpl_chaos_options_init(&so);
-                so.t_end = bo.t_end;
+                so.t_end = bo.chaos.t_end;
                 so.n_samples = NS;
                 so.stop_when_chaotic = stop;
-                so.blowup_stretch = bo.blowup_stretch;
+                so.blowup_stretch = bo.chaos.blowup_stretch;
                 fpl_chaos_result sr;
-                int st = fpl_chaos_run(l[1], "yoshida4", NULL, 0.0, y0 + 128, NULL, &so, NULL, NULL,
+                int st = fpl_chaos_run(l[1], "yoshida4", &io, 0.0, y0 + 128, NULL, &so, NULL, NULL,
                                        NULL, NULL, &sr);
                 CHECK(st == FPL_EVENT && sr.blew_up && !sr.chaotic && sr.t_blowup == r.t_blowup &&
                           sr.t_final == r.t_final,
@@ -328,7 +329,7 @@ static void test_blowup(void)
                 /* the event time of a single-orbit integration of the same orbit */
                 fpl_integrator *h = NULL;
                 double y[384];
-                CHECK_OK(fpl_integrator_create(l[1], "yoshida4", 0, NULL, 0.0, y0 + 128, &h));
+                CHECK_OK(fpl_integrator_create(l[1], "yoshida4", 0, &io, 0.0, y0 + 128, &h));
                 CHECK(fpl_integrator_advance(h, 3000.0, y) == FPL_EVENT, "single run: no event");
                 int idx;
                 double tev;
@@ -343,12 +344,12 @@ static void test_blowup(void)
             for (int o = 0; o < 3; o += 2) {
                 fpl_chaos_batch_result ro;
                 CHECK_OK(fpl_chaos_batch_get_result(b, o, &ro));
-                CHECK(!ro.blew_up && ro.t_final == bo.t_end, "lane %d: blew_up %d", o, ro.blew_up);
+                CHECK(!ro.blew_up && ro.t_final == bo.chaos.t_end, "lane %d: blew_up %d", o, ro.blew_up);
                 if (variant || stop) continue; /* the comparison once is enough */
                 /* unaffected: the same as a single-orbit run */
                 fpl_chaos_options so;
                 fpl_chaos_options_init(&so);
-                so.t_end = bo.t_end;
+                so.t_end = bo.chaos.t_end;
                 so.n_samples = NS;
                 double sm[NS];
                 fpl_chaos_result sr;
@@ -377,13 +378,13 @@ static void test_checkpoint(void)
     for (int i = 0; i < 5 * 16; i++) y0[i] = (i / 16 % 2 ? 1.5 : 0.05) * check_uniform();
     fpl_chaos_batch_options bo;
     fpl_chaos_batch_options_init(&bo);
-    bo.t_end = 3000.0;
-    bo.n_samples = NS;
-    bo.stop_when_chaotic = 1;
+    bo.chaos.t_end = 3000.0;
+    bo.chaos.n_samples = NS;
+    bo.chaos.stop_when_chaotic = 1;
     double m1[5 * NS], m2[5 * NS];
     fpl_chaos_batch *a = NULL, *b = NULL;
     CHECK_OK(fpl_chaos_batch_create(l, 5, "srkn14a6", NULL, 0.0, y0, NULL, &bo, &a));
-    CHECK_OK(fpl_chaos_batch_advance(a, bo.t_end, NULL, m1, NULL, NULL));
+    CHECK_OK(fpl_chaos_batch_advance(a, bo.chaos.t_end, NULL, m1, NULL, NULL));
     CHECK_OK(fpl_chaos_batch_create(l, 5, "srkn14a6", NULL, 0.0, y0, NULL, &bo, &b));
     CHECK_OK(fpl_chaos_batch_advance(b, 700.0, NULL, m2, NULL, NULL));
     long len = fpl_chaos_batch_save_size(b);
@@ -394,7 +395,7 @@ static void test_checkpoint(void)
     CHECK(fpl_chaos_batch_restore(b, buf, len - 1) == FPL_ERR_ARG, "short buffer accepted");
     CHECK_OK(fpl_chaos_batch_restore(b, buf, len));
     CHECK(fpl_chaos_batch_time(b) == 700.0, "restored time %g", fpl_chaos_batch_time(b));
-    CHECK_OK(fpl_chaos_batch_advance(b, bo.t_end, NULL, m2, NULL, NULL));
+    CHECK_OK(fpl_chaos_batch_advance(b, bo.chaos.t_end, NULL, m2, NULL, NULL));
     int chaotic = 0;
     for (int r = 0; r < 5; r++) {
         fpl_chaos_batch_result ra, rb;
@@ -413,21 +414,29 @@ static void test_checkpoint(void)
     for (int r = 0; r < 5; r++) fpl_lattice_free(&l[r]);
 }
 
-static void expect_error(fpl_lattice *const *l, int R, const char *method, double dt, double t_end,
-                         double renorm, const char *needle)
+static void expect_error_events(fpl_lattice *const *l, int R, const char *method, double dt,
+                                double t_end, double renorm, const fpl_event_set *events,
+                                const char *needle)
 {
     fpl_chaos_batch_options bo;
     fpl_chaos_batch_options_init(&bo);
-    bo.t_end = t_end;
-    bo.renorm_interval = renorm;
+    bo.chaos.t_end = t_end;
+    bo.chaos.renorm_interval = renorm;
     fpl_integrator_options io;
     fpl_integrator_options_init(&io);
     io.dt = dt;
+    io.events = events;
     double y0[4 * 16] = {0};
     fpl_chaos_batch *b = (fpl_chaos_batch *)&io; /* must be reset to NULL */
     int st = fpl_chaos_batch_create(l, R, method, &io, 0.0, y0, NULL, &bo, &b);
     CHECK(st < 0 && b == NULL && strstr(fpl_last_error(), needle) != NULL,
           "expected an error naming '%s', got %d: %s", needle, st, fpl_last_error());
+}
+
+static void expect_error(fpl_lattice *const *l, int R, const char *method, double dt, double t_end,
+                         double renorm, const char *needle)
+{
+    expect_error_events(l, R, method, dt, t_end, renorm, NULL, needle);
 }
 
 static void test_bad_input(void)
@@ -452,22 +461,14 @@ static void test_bad_input(void)
     expect_error(aa, 2, "dop853", 0.01, 10.0, 1.0, "method 'dop853' is not supported");
     expect_error(aa, 2, "aba864-harmonic", 0.01, 10.0, 1.0, "not supported");
     expect_error(aa, 2, "rk99", 0.01, 10.0, 1.0, "unknown");
-    fpl_event_set ev = {1, {FPL_EVENT_MAX_STRETCH}, {4.0}, {0}};
-    CHECK_OK(fpl_lattice_set_events(d, &ev));
-    fpl_lattice *ae[2] = {a, a};
-    CHECK_OK(fpl_lattice_set_events(a, &ev));
-    fpl_lattice *e2 = NULL;
-    CHECK_OK(fpl_lattice_create(8, 0.25, 0.0, 1, NULL, &e2));
-    fpl_lattice *ax[2] = {a, e2};
-    expect_error(ax, 2, "yoshida4", 0.01, 10.0, 1.0, "lattices[1]: its stopping criteria");
     fpl_event_set me = {1, {FPL_EVENT_MODE_ENERGY}, {4.0}, {1}};
-    CHECK_OK(fpl_lattice_set_events(a, &me));
-    expect_error(ae, 2, "yoshida4", 0.01, 10.0, 1.0, "mode energy");
-    CHECK_OK(fpl_lattice_set_events(a, NULL));
+    expect_error_events(aa, 2, "yoshida4", 0.01, 10.0, 1.0, &me, "mode energy");
+    fpl_event_set bad = {1, {FPL_EVENT_MAX_STRETCH}, {-4.0}, {0}};
+    expect_error_events(aa, 2, "yoshida4", 0.01, 10.0, 1.0, &bad, "events: threshold[0]");
     /* a non-finite y0, and queries on bad orbits */
     fpl_chaos_batch_options bo;
     fpl_chaos_batch_options_init(&bo);
-    bo.t_end = 10.0;
+    bo.chaos.t_end = 10.0;
     double y0[2 * 16] = {0};
     y0[20] = NAN;
     fpl_chaos_batch *bb = NULL;
@@ -486,7 +487,6 @@ static void test_bad_input(void)
     fpl_lattice_free(&b);
     fpl_lattice_free(&c);
     fpl_lattice_free(&d);
-    fpl_lattice_free(&e2);
 }
 
 int main(void)

@@ -19,23 +19,26 @@ static void test_callbacks(SUNContext ctx)
     for (int model = 1; model <= 3; model++) {
         fpl_lattice *lat = NULL;
         CHECK_OK(fpl_lattice_create(n, 0.25, 0.1, model, v, &lat));
+        fpl_system *sys = NULL; /* the callbacks' user_data: lattice + scratch (no criteria) */
+        CHECK_OK(fpl_system_create(lat, NULL, &sys));
+        CHECK(fpl_system_lattice(sys) == lat && fpl_system_event_count(sys) == 0, "system");
         N_Vector y = N_VNew_Serial(dim, ctx), yd = N_VNew_Serial(dim, ctx);
         N_Vector w = N_VNew_Serial(dim, ctx), jw = N_VNew_Serial(dim, ctx);
         double *ya = N_VGetArrayPointer(y), *wa = N_VGetArrayPointer(w);
         for (int i = 0; i < dim; i++) { ya[i] = 0.4 * check_uniform(); wa[i] = check_uniform(); }
         double ref[24], jac[24 * 24];
-        CHECK(fpl_sun_rhs(0.0, y, yd, lat) == 0, "rhs");
+        CHECK(fpl_sun_rhs(0.0, y, yd, sys) == 0, "rhs");
         fpl_lattice_rhs(lat, ya, n_dev, ref);
         for (int i = 0; i < dim; i++) CHECK(N_VGetArrayPointer(yd)[i] == ref[i], "rhs[%d]", i);
         fpl_lattice_jacobian_dense(lat, ya, n_dev, jac);
         SUNMatrix D = SUNDenseMatrix(dim, dim, ctx);
-        CHECK(fpl_sun_jac(0.0, y, yd, D, lat, NULL, NULL, NULL) == 0, "dense jac");
+        CHECK(fpl_sun_jac(0.0, y, yd, D, sys, NULL, NULL, NULL) == 0, "dense jac");
         sunindextype mu, ml;
         CHECK_OK(fpl_sun_band_widths(lat, n_dev, &mu, &ml));
         SUNMatrix B = SUNBandMatrix(dim, mu, ml, ctx);
-        CHECK(fpl_sun_jac(0.0, y, yd, B, lat, NULL, NULL, NULL) == 0, "band jac: %s",
-              fpl_lattice_errmsg(lat));
-        CHECK(fpl_sun_jtimes(w, jw, 0.0, y, yd, lat, NULL) == 0, "jtimes");
+        CHECK(fpl_sun_jac(0.0, y, yd, B, sys, NULL, NULL, NULL) == 0, "band jac: %s",
+              fpl_system_errmsg(sys));
+        CHECK(fpl_sun_jtimes(w, jw, 0.0, y, yd, sys, NULL) == 0, "jtimes");
         for (int r = 0; r < dim; r++) {
             double jv = 0.0;
             for (int c = 0; c < dim; c++) {
@@ -48,13 +51,14 @@ static void test_callbacks(SUNContext ctx)
         }
         /* a vector whose length is not 2N(1+k) is refused */
         N_Vector bad = N_VNew_Serial(2 * n + 3, ctx);
-        CHECK(fpl_sun_rhs(0.0, bad, bad, lat) < 0, "bad length refused");
-        CHECK(strstr(fpl_lattice_errmsg(lat), "length") != NULL, "message names the length");
+        CHECK(fpl_sun_rhs(0.0, bad, bad, sys) < 0, "bad length refused");
+        CHECK(strstr(fpl_system_errmsg(sys), "length") != NULL, "message names the length");
         N_VDestroy(bad);
         SUNMatDestroy(D);
         SUNMatDestroy(B);
         N_VDestroy(y); N_VDestroy(yd); N_VDestroy(w); N_VDestroy(jw);
-        fpl_lattice_free(&lat);
+        fpl_system_free(&sys);
+    fpl_lattice_free(&lat);
     }
 }
 
@@ -66,12 +70,14 @@ static void test_cvode(SUNContext ctx, int band)
     CHECK_OK(fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, 10.0, 1, n, v));
     fpl_lattice *lat = NULL;
     CHECK_OK(fpl_lattice_create(n, 0.25, 0.0, FPL_MODEL_NONLINEAR, v, &lat));
+    fpl_system *sys = NULL;
+    CHECK_OK(fpl_system_create(lat, NULL, &sys));
     CHECK_OK(fpl_modes_initial_state(lat, 1, 1.0, ysplit));
     N_Vector y = N_VNew_Serial(dim, ctx);
     memcpy(N_VGetArrayPointer(y), ysplit, sizeof ysplit);
     void *mem = CVodeCreate(CV_BDF, ctx);
     CHECK(CVodeInit(mem, fpl_sun_rhs, 0.0, y) == CV_SUCCESS, "CVodeInit");
-    CVodeSetUserData(mem, lat);
+    CVodeSetUserData(mem, sys);
     CVodeSStolerances(mem, 1e-11, 1e-13);
     CVodeSetMaxNumSteps(mem, 1000000);
     SUNMatrix A;
@@ -105,6 +111,7 @@ static void test_cvode(SUNContext ctx, int band)
     SUNLinSolFree(LS);
     SUNMatDestroy(A);
     N_VDestroy(y);
+    fpl_system_free(&sys);
     fpl_lattice_free(&lat);
 }
 

@@ -1,0 +1,46 @@
+/* The kernels' scratch for one lattice size: owned by the runs, never by the (read-only) lattice. */
+#include <stdlib.h>
+#include <gsl/gsl_fft_real.h>
+#include "internal.h"
+
+static void *xcalloc(size_t n) { return calloc(n ? n : 1, sizeof(double)); }
+
+int fpl_work_create(int n, int with_modes, fpl_work **out)
+{
+    *out = NULL;
+    fpl_work *w = calloc(1, sizeof *w);
+    if (!w) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating a workspace");
+    const size_t nn = (size_t)n, m = 2 * (nn + 1);
+    w->n = n;
+    w->phi = xcalloc(nn + 1);
+    w->kappa = xcalloc(nn + 1);
+    w->dphi = xcalloc(nn + 1);
+    w->fft = xcalloc(m);
+    w->ek = xcalloc(nn);
+    if (with_modes) {
+        w->fft_wavetable = gsl_fft_real_wavetable_alloc(m);
+        w->fft_workspace = gsl_fft_real_workspace_alloc(m);
+    }
+    if (!w->phi || !w->kappa || !w->dphi || !w->fft || !w->ek ||
+        (with_modes && (!w->fft_wavetable || !w->fft_workspace))) {
+        fpl_work_free(&w);
+        return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating a workspace for N = %d", n);
+    }
+    *out = w;
+    return FPL_OK;
+}
+
+void fpl_work_free(fpl_work **work)
+{
+    if (!work || !*work) return;
+    fpl_work *w = *work;
+    free(w->phi);
+    free(w->kappa);
+    free(w->dphi);
+    free(w->fft);
+    free(w->ek);
+    if (w->fft_wavetable) gsl_fft_real_wavetable_free(w->fft_wavetable);
+    if (w->fft_workspace) gsl_fft_real_workspace_free(w->fft_workspace);
+    free(w);
+    *work = NULL;
+}
