@@ -12,7 +12,8 @@ from ._arrays import as_float_array
 from ._errors import check
 from ._native import ffi, lib
 from .integrate import Integrator, method_info
-from .lattice import Lattice, _int, _real
+from ._validate import _int, _real
+from .lattice import Lattice
 
 #: criterion names -> C kinds
 CRITERIA = {

@@ -14,7 +14,8 @@ from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check, last_error
 from ._native import ffi, lib
 from .integrate import method_info
-from .lattice import C_U64, Lattice, _int, _real
+from ._validate import C_U64, _int, _real
+from .lattice import Lattice
 
 
 #: The default integrator of chaos ensembles (chaotic_fraction, sweeps, the study behind

@@ -15,7 +15,8 @@ from ._arrays import as_float_array, ptr
 from ._errors import check
 from ._native import ffi, lib
 from .chaos import ChaosResult
-from .lattice import Lattice, _int, _real
+from ._validate import _int, _real
+from .lattice import Lattice
 
 #: methods the batch kernel runs (splitting schemes with the kinetic drift)
 BATCH_METHODS = ("leapfrog", "yoshida4", "aba864", "srkn14a6")

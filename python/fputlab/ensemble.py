@@ -236,7 +236,7 @@ def _read_task(path: Path, task: Task, key: str) -> dict | None:
 def check_ensemble(taus, Ns, realisations) -> tuple[list[float], list[int], int]:
     """taus, Ns and realisations of an ensemble, checked: none empty, realisations >= 1 (an
     empty ensemble would give NaN fractions without a word)."""
-    from .lattice import _int
+    from ._validate import _int
     taus = [float(t) for t in np.atleast_1d(np.asarray(taus, dtype=float))]
     if not taus or not all(math.isfinite(t) and t >= 0 for t in taus):
         raise ValueError(f"taus must be a non-empty list of finite values >= 0 (got {taus})")
@@ -366,7 +366,7 @@ def process_pool(workers: int | None = None) -> ProcessPoolExecutor:
     """A process pool whose workers die with this process (see _die_with_parent) and are
     stopped at once when the pool is left by an exception (Ctrl-C)."""
     if workers is not None:
-        from .lattice import _int
+        from ._validate import _int
         workers = _int(workers, "workers")
         if workers < 1:
             raise ValueError(f"workers must be >= 1 (got {workers})")

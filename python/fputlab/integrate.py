@@ -11,7 +11,8 @@ import numpy as np
 from ._arrays import as_float_array, check_memory, ptr
 from ._errors import FputlabError, IntegrationError, check
 from ._native import ffi, lib
-from .lattice import C_LONG, Lattice, _int, _real
+from ._validate import C_LONG, _int, _real
+from .lattice import Lattice
 
 
 def methods() -> list[str]:

@@ -27,7 +27,8 @@ from ._arrays import as_float_array, ptr
 from ._errors import FputlabError, check, last_error
 from ._native import ffi, lib
 from .integrate import Integrator, method_info
-from .lattice import C_LONG, C_U64, Lattice, _int, _real
+from ._validate import C_LONG, C_U64, _int, _real
+from .lattice import Lattice
 
 #: how a run ended, as written to the file's `status` attribute
 STATUSES = ("running", "completed", "event", "failed", "interrupted")

@@ -1,7 +1,6 @@
 """The lattice: N particles with fixed ends, one of three models, and its evaluation API."""
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np
@@ -9,6 +8,7 @@ import numpy as np
 from ._arrays import as_float_array, ptr
 from ._errors import check
 from ._native import ffi, lib
+from ._validate import C_U64, _int, _real
 
 #: model names (and the paper's equations) -> C model codes
 MODELS = {
@@ -33,30 +33,6 @@ def _model_code(model) -> int:
             raise ValueError(f"model {model} is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)")
         return int(model)
     raise TypeError(f"model must be a name or 1, 2, 3, got {type(model).__name__}")
-
-
-def _real(value, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    return float(value)
-
-
-#: ranges of C integer parameters
-C_INT = (-2**31, 2**31 - 1)
-C_LONG = (-2**63, 2**63 - 1)
-C_U64 = (-2**63, 2**64 - 1)     # seeds (negative values get their own "must be >= 0" errors)
-
-
-def _int(value, name: str, bounds: tuple = C_INT) -> int:
-    """An integer parameter, checked against the range of the C type it goes to (int by
-    default): out of range is a ValueError naming it, not cffi's anonymous OverflowError."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    value = int(value)
-    lo, hi = bounds
-    if not lo <= value <= hi:
-        raise ValueError(f"{name} = {value} is out of range (it must lie in [{lo}, {hi}])")
-    return value
 
 
 #: parameters a Lattice is built from: fixed once built (the C lattice holds copies)

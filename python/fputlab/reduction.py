@@ -31,7 +31,8 @@ from ._display import ResultMixin
 from ._arrays import as_float_array, ptr
 from ._errors import IntegrationError, check
 from ._native import ffi, lib
-from .lattice import C_U64, DISORDERS, Lattice, _int, _model_code, _real
+from ._validate import C_U64, _finite_real, _int, _real
+from .lattice import DISORDERS, Lattice, _model_code
 
 #: order of the raw coefficients everywhere (mode-1 equation a, mode-2 equation b)
 COEFFICIENT_NAMES = ("a1", "a2", "a3", "b1", "b2", "b3")
@@ -69,13 +70,6 @@ def _scheme(method: str):
     out = ffi.new("const fpl_splitting **")
     check(lib.fpl_splitting_lookup(method.encode(), out))
     return out[0]
-
-
-def _finite_real(value, name: str) -> float:
-    x = _real(value, name)
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must be finite (got {x})")
-    return x
 
 
 def _sample_times(t0: float, t_end: float, sample_every, times) -> np.ndarray:
