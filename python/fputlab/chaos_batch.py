@@ -11,11 +11,11 @@ import dataclasses
 
 import numpy as np
 
-from ._arrays import as_float_array, ptr
-from ._errors import check
-from ._native import ffi, lib
-from .chaos import ChaosResult
+from . import _lowlevel as ll
+from ._arrays import as_float_array
+from ._chaos_result import ChaosResult
 from ._validate import _int, _real
+from .integrate import set_criteria
 from .lattice import Lattice
 
 #: methods the batch kernel runs (splitting schemes with the kinetic drift)
@@ -109,20 +109,12 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     if n_dev < 1:
         raise ValueError(f"n_dev must be >= 1 (got {n_dev})")
     if criteria is not None:
-        from .blowup import set_criteria
         for lat in lattices:
             set_criteria(lat, criteria)
     y = _states(y0, "y0", R, (2 * N,), lambda r: lattices[r].mode_state())
-    w = ffi.NULL
-    if w0 is not None:
-        w_arr = _states(w0, "w0", R, (n_dev, 2 * N), None)
-        w = ptr(w_arr)
-    io = ffi.new("fpl_integrator_options *")
-    lib.fpl_integrator_options_init(io)
-    io.dt = 0.01 if dt is None else _real(dt, "dt")
-    bo = ffi.new("fpl_chaos_batch_options *")
-    lib.fpl_chaos_batch_options_init(bo)
-    bo.t_end = _real(t_end, "t_end")
+    w = None if w0 is None else _states(w0, "w0", R, (n_dev, 2 * N), None)
+    io = ll.integrator_options(ll.DT if dt is None else _real(dt, "dt"))
+    bo = ll.chaos_batch_options(_real(t_end, "t_end"))
     bo.renorm_interval = _real(renorm_interval, "renorm_interval")
     bo.n_samples = _int(n_samples, "n_samples")
     bo.t_first_sample = _real(t_first_sample, "t_first_sample")
@@ -136,29 +128,25 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     if blowup_stretch is not None:
         bo.blowup_stretch = _real(blowup_stretch, "blowup_stretch")
     t0 = _real(t0, "t0")
-    handles = ffi.new("fpl_lattice *[]", [lat._h for lat in lattices])
-    out = ffi.new("fpl_chaos_batch **")
-    check(lib.fpl_chaos_batch_create(handles, R, method.encode(), io, t0, ptr(y), w, bo, out))
-    batch = ffi.gc(out[0], lambda h: lib.fpl_chaos_batch_free(ffi.new("fpl_chaos_batch **", h)))
+    batch = ll.ChaosBatchHandle([lat._h for lat in lattices], method, io, t0, y, w, bo)
     S = max(bo.n_samples, 1)
     t, mle, sali, gali = (np.full((R, S), np.nan) for _ in range(4))
-    arrays = [ptr(a) for a in (t, mle, sali, gali)]
     span = bo.t_end - t0
     if progress:
         from tqdm.auto import tqdm
         with tqdm(total=span, desc=f"chaos batch R={R} N={N}", unit="t", disable=None,
                   bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
             for k in range(1, 101):
-                check(lib.fpl_chaos_batch_advance(batch, t0 + span * k / 100, *arrays))
-                bar.update(lib.fpl_chaos_batch_time(batch) - t0 - bar.n)
-                if lib.fpl_chaos_batch_done(batch):
+                batch.advance(t0 + span * k / 100, t, mle, sali, gali)
+                bar.update(batch.time() - t0 - bar.n)
+                if batch.done():
                     break
     else:
-        check(lib.fpl_chaos_batch_advance(batch, bo.t_end, *arrays))
+        batch.advance(bo.t_end, t, mle, sali, gali)
     results = []
-    res = ffi.new("fpl_chaos_batch_result *")
+    res = None
     for r, lat in enumerate(lattices):
-        check(lib.fpl_chaos_batch_get_result(batch, r, res))
+        res = batch.get_result(r, res)
         k = res.n_samples
         blew_up = bool(res.blew_up)
         params = {"N": N, "model": lat.model, "tau": lat.tau, "seed": lat.seed, "t_end": t_end,
@@ -171,7 +159,7 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
                   "gali": gali[r, :k].copy(), "chaotic": bool(res.chaotic),
                   "t_chaotic": res.t_chaotic, "t_final": res.t_final, "steps": res.steps,
                   "method": method, "completed": not blew_up,
-                  "message": ffi.string(lib.fpl_chaos_batch_message(batch, r)).decode(),
+                  "message": batch.message(r),
                   "params": params}
         # fields the single-orbit result may gain (blow-up bookkeeping) are filled if present
         names = {f.name for f in dataclasses.fields(ChaosResult)}

@@ -23,10 +23,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._arrays import as_float_array, ptr
+from . import _lowlevel as ll
+from ._arrays import as_float_array
 from ._errors import FputlabError, check, last_error
-from ._native import ffi, lib
-from .integrate import Integrator, method_info
+from .integrate import Integrator, check_steps, method_info, set_criteria
 from ._validate import C_LONG, C_U64, _int, _real
 from .lattice import Lattice
 
@@ -34,79 +34,53 @@ from .lattice import Lattice
 STATUSES = ("running", "completed", "event", "failed", "interrupted")
 
 
-class _RunInfo:
-    """fpl_run_info with the C strings it points to kept alive."""
-
-    def __init__(self, lattice: Lattice, kind: str, method: str, dt: float, rtol: float,
-                 atol: float, t0: float, n_dev: int, store_states: bool = False,
-                 chunk_rows: int = 0):
-        self._keep = []
-        self.c = ffi.new("fpl_run_info *")
-        lib.fpl_run_info_init(self.c)
-        self.c.kind = self._str(kind)
-        self.c.method = self._str(method)
-        # as the checkpoint records them: the options the method actually uses, NaN for the others
-        adaptive = method_info(method)["adaptive"]
-        nan = float("nan")
-        self.c.dt = nan if adaptive else dt
-        self.c.rtol, self.c.atol = (rtol, atol) if adaptive else (nan, nan)
-        self.c.t0 = t0
-        self.c.n_dev = n_dev
-        self.c.tau = float("nan") if lattice.tau is None else lattice.tau
-        self.c.seed = -1 if lattice.seed is None else int(lattice.seed)
-        self.c.disorder = self._str(lattice.disorder or ("user" if lattice.tau is None and
-                                                         lattice.model != "homogeneous" else ""))
-        self.c.store_states = int(bool(store_states))
-        self.c.chunk_rows = chunk_rows
-
-    def _str(self, s: str):
-        b = ffi.new("char[]", s.encode())
-        self._keep.append(b)
-        return b
+def _RunInfo(lattice: Lattice, kind: str, method: str, dt: float, rtol: float, atol: float,
+             t0: float, n_dev: int, store_states: bool = False,
+             chunk_rows: int = 0) -> ll.RunInfo:
+    """The run description a results file and a checkpoint carry (fpl_run_info)."""
+    # as the checkpoint records them: the options the method actually uses, NaN for the others
+    adaptive = method_info(method)["adaptive"]
+    nan = float("nan")
+    return ll.RunInfo(
+        kind=kind, method=method, dt=nan if adaptive else dt,
+        rtol=rtol if adaptive else nan, atol=atol if adaptive else nan, t0=t0, n_dev=n_dev,
+        tau=float("nan") if lattice.tau is None else lattice.tau,
+        seed=-1 if lattice.seed is None else int(lattice.seed),
+        disorder=lattice.disorder or ("user" if lattice.tau is None and
+                                      lattice.model != "homogeneous" else ""),
+        store_states=int(bool(store_states)), chunk_rows=chunk_rows)
 
 
 class ResultsFile:
     """A results file being written (C `fpl_results`); use as a context manager."""
 
-    def __init__(self, path, lattice: Lattice, info: _RunInfo, *, resume_from=None):
+    def __init__(self, path, lattice: Lattice, info: ll.RunInfo, *, resume_from=None):
         """Create the file, or with resume_from (a checkpoint written with this results file)
         reopen it cut back to the checkpoint, the rows then pending restored."""
         self.path, self.lattice, self._info = os.fspath(path), lattice, info
-        out = ffi.new("fpl_results **")
-        if resume_from is None:
-            check(lib.fpl_results_create(self.path.encode(), lattice._h, info.c, out))
-        else:
-            check(lib.fpl_results_resume(self.path.encode(), lattice._h, info.c,
-                                         os.fspath(resume_from).encode(), out))
-        self._h = out[0]
-
-    def _check(self, status):
-        return check(status)
+        self._h = ll.ResultsHandle(self.path, lattice._h, info, resume_from)
 
     @property
     def count(self) -> int:
-        return int(lib.fpl_results_count(self._h))
+        return self._h.count()
 
     def append(self, t: float, y: np.ndarray) -> None:
-        self._check(lib.fpl_results_append(self._h, float(t), ptr(y)))
+        self._h.append(float(t), y)
 
     def append_chaos(self, t: float, mle: float, sali: float, gali: float) -> None:
-        self._check(lib.fpl_results_append_chaos(self._h, float(t), mle, sali, gali))
+        self._h.append_chaos(float(t), mle, sali, gali)
 
     def set_status(self, status: str, message: str = "") -> None:
-        self._check(lib.fpl_results_set_status(self._h, status.encode(), message.encode()))
+        self._h.set_status(status, message)
 
     def set_event(self, t: float, criterion: str) -> None:
-        self._check(lib.fpl_results_set_event(self._h, float(t), criterion.encode()))
+        self._h.set_event(float(t), criterion)
 
     def flush(self) -> None:
-        self._check(lib.fpl_results_flush(self._h))
+        self._h.flush()
 
     def close(self) -> None:
-        if self._h is not None:
-            h = ffi.new("fpl_results **", self._h)
-            self._h = None
-            check(lib.fpl_results_close(h))
+        self._h.close()
 
     def __enter__(self):
         return self
@@ -115,31 +89,24 @@ class ResultsFile:
         self.close()
 
 
-def write_checkpoint(path, integ_handle, info: _RunInfo, extra=(),
+def write_checkpoint(path, integ_handle: ll.IntegratorHandle, info: ll.RunInfo, extra=(),
                      results: ResultsFile | None = None) -> None:
-    """Write a checkpoint of the C integrator `integ_handle` (and of where `results` stands)
+    """Write a checkpoint of the integrator `integ_handle` (and of where `results` stands)
     atomically."""
-    ex = np.ascontiguousarray(extra, dtype=np.float64)
-    check(lib.fpl_checkpoint_write(os.fspath(path).encode(), integ_handle, info.c,
-                                   ptr(ex) if ex.size else ffi.NULL, ex.size,
-                                   results._h if results is not None else ffi.NULL))
+    ll.checkpoint_write(path, integ_handle, info, np.ascontiguousarray(extra, dtype=np.float64),
+                        results._h if results is not None else None)
 
 
-def load_checkpoint(path, integ_handle, info: _RunInfo, max_extra: int = 0) -> np.ndarray:
+def load_checkpoint(path, integ_handle: ll.IntegratorHandle, info: ll.RunInfo,
+                    max_extra: int = 0) -> np.ndarray:
     """Validate the checkpoint against the run and restore the integrator; returns the
     accumulators. Mismatch -> ValueError, unreadable/corrupt -> OSError; the file is only read."""
-    ex = np.empty(max(max_extra, 1))
-    n = ffi.new("int *")
-    check(lib.fpl_checkpoint_load(os.fspath(path).encode(), integ_handle, info.c, ptr(ex),
-                                  max_extra, n))
-    return ex[:n[0]].copy()
+    return ll.checkpoint_load(path, integ_handle, info, max_extra)
 
 
 def checkpoint_time(path) -> tuple[float, int]:
     """(t, step count) stored in a checkpoint."""
-    t, n = ffi.new("double *"), ffi.new("long *")
-    check(lib.fpl_checkpoint_peek(os.fspath(path).encode(), t, n))
-    return t[0], int(n[0])
+    return ll.checkpoint_peek(path)
 
 
 class _Stopper:
@@ -283,9 +250,8 @@ def _verify_resume(out, lattice: Lattice, info: _RunInfo, checkpoint) -> None:
     """fpl_results_verify (reads back everything a resume keeps) in a child process, so that a
     damaged file that crashes or hangs libhdf5 costs the child, not this process: a crash or a
     hang becomes an OSError naming the files. Then the resume itself (same reads) is safe."""
-    out_b, ck_b = os.fspath(out).encode(), os.fspath(checkpoint).encode()
     if not hasattr(os, "fork"):
-        check(lib.fpl_results_verify(out_b, lattice._h, info.c, ck_b))
+        check(ll.results_verify(out, lattice._h, info, checkpoint))
         return
     import select
     rfd, wfd = os.pipe()
@@ -297,8 +263,8 @@ def _verify_resume(out, lattice: Lattice, info: _RunInfo, checkpoint) -> None:
             faulthandler.disable()                   # a crash here is reported by the parent
             signal.signal(signal.SIGINT, signal.SIG_DFL)
             signal.signal(signal.SIGTERM, signal.SIG_DFL)
-            st = lib.fpl_results_verify(out_b, lattice._h, info.c, ck_b)
-            msg = ffi.string(lib.fpl_last_error()).decode(errors="replace") if st < 0 else ""
+            st = ll.results_verify(out, lattice._h, info, checkpoint)
+            msg = last_error() if st < 0 else ""
             os.write(wfd, f"{st}\n{msg}".encode()[:60000])
         finally:
             os._exit(0)
@@ -340,7 +306,7 @@ def _verify_resume(out, lattice: Lattice, info: _RunInfo, checkpoint) -> None:
         raise OSError(f"checking {os.fspath(out)!r} for a resume failed without a status "
                       "(child process)") from None
     if st < 0:
-        if st in (lib.FPL_ERR_ARG, lib.FPL_ERR_UNKNOWN):
+        if st in ll.ARG_ERRORS:
             raise ValueError(msg)
         raise OSError(msg)
 
@@ -381,14 +347,13 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
         raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
     adaptive = method_info(method)["adaptive"]
     if dt is None and not adaptive:
-        dt = 0.01
+        dt = ll.DT
     every = t_end / 1000 if sample_every is None else _real(sample_every, "sample_every")
     if sample_every is None and not adaptive:
         every = max(every, _real(dt, "dt"))    # never below what a fixed step can resolve
     if not (math.isfinite(every) and every > 0):
         raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
     if not adaptive:
-        from .integrate import check_steps
         check_steps(t_end, _real(dt, "dt"), "t_end", t_end)
     if not adaptive and every < _real(dt, "dt") * (1 - 1e-9):
         raise ValueError(f"dt = {dt:g} is larger than the sample spacing {every:g}: a fixed-step "
@@ -407,7 +372,6 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     state0 = orbit[None, :] if deviations is None else np.concatenate(
         [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
 
-    from .blowup import set_criteria
     set_criteria(lattice, stop_on)
     try:
         integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol)
@@ -521,26 +485,20 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
     resuming = _check_output_paths(out, checkpoint, resume, overwrite)
     adaptive = method_info(method)["adaptive"]
     if dt is None and not adaptive:
-        dt = 0.01
+        dt = ll.DT
     N = lattice.N
     orbit = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * N,))
-    iopt = ffi.new("fpl_integrator_options *")
-    lib.fpl_integrator_options_init(iopt)
-    iopt.dt = 0.0 if dt is None else _real(dt, "dt")
-    iopt.rtol, iopt.atol = _real(rtol, "rtol"), _real(atol, "atol")
-    copt = ffi.new("fpl_chaos_options *")
-    lib.fpl_chaos_options_init(copt)
-    copt.t_end, copt.renorm_interval = t_end, _real(renorm_interval, "renorm_interval")
-    copt.n_samples, copt.n_dev = _int(n_samples, "n_samples"), _int(n_dev, "n_dev")
-    copt.sali_threshold = _real(sali_threshold, "sali_threshold")
-    copt.stop_when_chaotic, copt.seed = int(bool(stop_when_chaotic)), _int(seed, "seed", C_U64)
-    out_h = ffi.new("fpl_chaos **")
-    check(lib.fpl_chaos_create(lattice._h, method.encode(), iopt, 0.0, ptr(orbit), ffi.NULL, copt,
-                               out_h))
-    c = ffi.gc(out_h[0], lambda h: lib.fpl_chaos_free(ffi.new("fpl_chaos **", h)))
-    ih = lib.fpl_chaos_integrator(c)
+    iopt = ll.integrator_options(0.0 if dt is None else _real(dt, "dt"), _real(rtol, "rtol"),
+                                 _real(atol, "atol"))
+    copt = ll.chaos_options(
+        t_end, renorm_interval=_real(renorm_interval, "renorm_interval"),
+        n_samples=_int(n_samples, "n_samples"), n_dev=_int(n_dev, "n_dev"),
+        sali_threshold=_real(sali_threshold, "sali_threshold"),
+        stop_when_chaotic=int(bool(stop_when_chaotic)), seed=_int(seed, "seed", C_U64))
+    c = ll.ChaosHandle(lattice._h, method, iopt, 0.0, orbit, None, copt)
+    ih = c.integrator()
     info = _RunInfo(lattice, "chaos", method, iopt.dt, iopt.rtol, iopt.atol, 0.0, copt.n_dev)
-    n_acc = lib.FPL_CHAOS_N_ACCUMULATORS
+    n_acc = ll.CHAOS_N_ACCUMULATORS
     # what fixes the sample times and the classification: a resume must agree on all of it
     settings = {"t_end": t_end, "n_samples": copt.n_samples,
                 "renorm_interval": copt.renorm_interval, "sali_threshold": copt.sali_threshold,
@@ -555,57 +513,52 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
                                      f"this run {want:.17g}; a chaos run cannot change it when "
                                      "resuming (it fixes the sample times; refused, nothing "
                                      "changed)")
-        check(lib.fpl_chaos_restore(c, ptr(np.ascontiguousarray(acc[:n_acc]))))
-        resumed = lib.fpl_integrator_time(ih)
+        c.restore(np.ascontiguousarray(acc[:n_acc]))
+        resumed = ih.time()
         _verify_resume(out, lattice, info, checkpoint)
         results = ResultsFile(out, lattice, info, resume_from=checkpoint)
     else:
         results = ResultsFile(out, lattice, info)
     arrays = [np.full(copt.n_samples, np.nan) for _ in range(4)]
-    res = ffi.new("fpl_chaos_result *")
+    res = ll.chaos_result()
     seg = segment if segment is not None else (
-        renorm_interval * max(1, round(1e5 * (dt or 0.01) / renorm_interval)))
-    summary = RunSummary("completed", lib.fpl_integrator_time(ih), 0, resumed, 0, path=os.fspath(out))
-    steps = ffi.new("long *")
+        renorm_interval * max(1, round(1e5 * (dt or ll.DT) / renorm_interval)))
+    summary = RunSummary("completed", ih.time(), 0, resumed, 0, path=os.fspath(out))
     with results, _Stopper() as stopper:
         bar = _progress(t_end, f"chaos N={N}", progress, summary.t_reached)
-        lib.fpl_integrator_counters(ih, steps, ffi.NULL)
-        cadence = _Cadence(checkpoint, k_steps, k_seconds, steps[0])
+        cadence = _Cadence(checkpoint, k_steps, k_seconds, ih.counters()[0])
 
         def save():
-            acc = np.empty(n_acc)
-            check(lib.fpl_chaos_save(c, ptr(acc)))
+            acc = c.save()
             write_checkpoint(checkpoint, ih, info, np.concatenate([acc, list(settings.values())]),
                              results)
             summary.checkpoints += 1
-            cadence.mark(steps[0])
+            cadence.mark(ih.counters()[0])
 
         try:
-            check(lib.fpl_chaos_get_result(c, res))
-            while not lib.fpl_chaos_done(c) and stopper.signum is None:
+            c.get_result(res)
+            while not c.done() and stopper.signum is None:
                 before = res.n_samples
-                t_now = lib.fpl_integrator_time(ih)
-                if check(lib.fpl_chaos_advance(c, t_now + seg, *(ptr(a) for a in arrays))) > 0:
+                if c.advance(ih.time() + seg, *arrays) > 0:
                     summary.message = last_error()      # a blow-up: when and why
-                check(lib.fpl_chaos_get_result(c, res))
+                c.get_result(res)
                 for j in range(before, res.n_samples):
                     results.append_chaos(*(a[j] for a in arrays))
                 if bar is not None:
                     bar.update(res.t_final - bar.n)
-                lib.fpl_integrator_counters(ih, steps, ffi.NULL)
-                if cadence.due(steps[0]):
+                if cadence.due(ih.counters()[0]):
                     save()
         except FputlabError as err:
             summary.status, summary.message = "failed", str(err)
         finally:
             if bar is not None:
                 bar.close()
-        if stopper.signum is not None and not lib.fpl_chaos_done(c) and summary.status == "completed":
+        if stopper.signum is not None and not c.done() and summary.status == "completed":
             summary.status = "interrupted"
             summary.message = f"stopped by {signal.Signals(stopper.signum).name}"
         if checkpoint is not None and summary.status in ("completed", "interrupted"):
             save()
-        check(lib.fpl_chaos_get_result(c, res))
+        c.get_result(res)
         summary.t_reached, summary.samples = res.t_final, res.n_samples
         summary.extra = {"mle": res.mle, "sali": res.sali, "gali": res.gali,
                          "chaotic": bool(res.chaotic), "t_chaotic": res.t_chaotic,

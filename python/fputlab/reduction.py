@@ -28,9 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._display import ResultMixin
-from ._arrays import as_float_array, ptr
+from . import _lowlevel as ll
+from ._arrays import as_float_array
 from ._errors import IntegrationError, check
-from ._native import ffi, lib
 from ._validate import C_U64, _finite_real, _int, _real
 from .lattice import DISORDERS, Lattice, _model_code
 
@@ -67,9 +67,7 @@ def _tilde_scales(N: int) -> tuple[float, float]:
 def _scheme(method: str):
     if not isinstance(method, str):
         raise TypeError(f"method must be a string, got {type(method).__name__}")
-    out = ffi.new("const fpl_splitting **")
-    check(lib.fpl_splitting_lookup(method.encode(), out))
-    return out[0]
+    return ll.splitting_lookup(method)
 
 
 def _sample_times(t0: float, t_end: float, sample_every, times) -> np.ndarray:
@@ -100,7 +98,7 @@ def _draws(N: int, seeds, kind: str) -> np.ndarray:
     for r, s in enumerate(seeds):
         if s < 0 or s >= 2**64:
             raise ValueError(f"seed must be in [0, 2**64), got {s}")
-        check(lib.fpl_disorder_standard(DISORDERS[kind], s, N, ptr(z[r])))
+        ll.disorder_standard(DISORDERS[kind], s, N, z[r])
     return z
 
 
@@ -192,12 +190,9 @@ def two_mode_coefficients(N=64, alpha: float = 0.25, v=None, *,
         alpha = _real(alpha, "alpha")
     if N < 2:
         raise ValueError(f"N must be >= 2 (got {N})")
-    v_ptr = ffi.NULL
-    if v is not None:
-        v_arr = as_float_array(v, "v", (N,))
-        v_ptr = ptr(v_arr)
+    v_arr = None if v is None else as_float_array(v, "v", (N,))
     a, b = np.empty(3), np.empty(3)
-    check(lib.fpl_reduction_coefficients(N, alpha, code, v_ptr, ptr(a), ptr(b)))
+    ll.reduction_coefficients(N, alpha, code, v_arr, a, b)
     return TwoModeCoefficients(N, a, b)
 
 
@@ -206,9 +201,7 @@ def quadratic_forms(N: int, alpha: float = 0.25) -> tuple[np.ndarray, np.ndarray
     N = _int(N, "N")
     if N < 2:
         raise ValueError(f"N must be >= 2 (got {N})")
-    diag, off = np.empty((6, N)), np.empty((6, N - 1))
-    check(lib.fpl_reduction_quadratic_forms(N, _real(alpha, "alpha"), ptr(diag), ptr(off)))
-    return diag, off
+    return ll.reduction_quadratic_forms(N, _real(alpha, "alpha"))
 
 
 @dataclass(repr=False)
@@ -259,8 +252,7 @@ def coefficient_moments(tau, N: int = 64, alpha: float = 0.25, *, kind: str = "g
     mean, cov = np.empty((taus.size, 6)), np.empty((taus.size, 6, 6))
     code, a = _model_code(model), _real(alpha, "alpha")
     for i, t in enumerate(taus):
-        check(lib.fpl_reduction_moments(N, a, code, DISORDERS[kind], float(t), ptr(mean[i]),
-                                        ptr(cov[i])))
+        ll.reduction_moments(N, a, code, DISORDERS[kind], float(t), mean[i], cov[i])
     return CoefficientMoments(taus, kind, N, mean, cov)
 
 
@@ -374,11 +366,10 @@ def ensemble_statistics(tau, N: int = 64, alpha: float = 0.25, R: int = 100, *, 
     sA, sB = _tilde_scales(N)
     At, Bt = np.empty((R, taus.size)), np.empty((R, taus.size))
     a, b = np.empty(3), np.empty(3)
-    pa, pb = ptr(a), ptr(b)
     for r in range(R):
         for i, s in enumerate(_disorder_scale(taus, kind)):
             v = 1.0 + s * z[r]
-            check(lib.fpl_reduction_coefficients(N, alpha, code, ptr(v), pa, pb))
+            ll.reduction_coefficients(N, alpha, code, v, a, b)
             At[r, i], Bt[r, i] = a[2] * sA, b[0] * sB
     return EnsembleStatistics(taus, At, Bt)
 
@@ -567,12 +558,8 @@ def two_mode_run(coefficients: TwoModeCoefficients, t_end: float, *, dt: float =
     z0 = _initial_modal_state(2, coefficients.N, Q0, P0)
     a = np.ascontiguousarray(coefficients.a, dtype=float)
     b = np.ascontiguousarray(coefficients.b, dtype=float)
-    S = ts.size
-    states = np.empty((max(S, 1), 4))
-    done = ffi.new("int *")
-    status = lib.fpl_reduction_two_mode_run(_scheme(method), ptr(w), ptr(a), ptr(b), ptr(z0), t0,
-                                            dt, ptr(ts) if S else ffi.NULL, S, ptr(states), done)
-    k = done[0]
+    states = np.empty((max(ts.size, 1), 4))
+    status, k = ll.reduction_two_mode_run(_scheme(method), w, a, b, z0, t0, dt, ts, states)
     run = ModalRun(ts[:k].copy(), states[:k, :2].copy(), states[:k, 2:].copy(), w, dt, method)
     return _finish(run, status, on_failure)
 
@@ -596,9 +583,7 @@ class Galerkin:
         if not isinstance(lattice, Lattice):
             raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
         M = _modes_arg(M)
-        out = ffi.new("fpl_galerkin **")
-        check(lib.fpl_galerkin_create(lattice._h, M, out))
-        self._h = ffi.gc(out[0], lambda h: lib.fpl_galerkin_free(ffi.new("fpl_galerkin **", h)))
+        self._h = ll.GalerkinHandle(lattice._h, M)
         self.lattice, self.M, self.N = lattice, M, lattice.N
         self.omega = lattice.omega[:M].copy()
 
@@ -611,9 +596,7 @@ class Galerkin:
         bad = np.flatnonzero(~np.isfinite(q))
         if bad.size:
             raise ValueError(f"Q[{bad[0]}] is not finite ({q[bad[0]]})")
-        out = np.empty(self.M)
-        check(lib.fpl_galerkin_acceleration(self._h, ptr(q), ptr(out)))
-        return out
+        return self._h.acceleration(q)
 
     def run(self, t_end: float, *, dt: float = 0.01, sample_every: float | None = None,
             times=None, Q0=None, P0=None, method: str = "yoshida4", t0: float = 0.0,
@@ -622,12 +605,9 @@ class Galerkin:
         scheme (drift Q += h P, kick P += h Q''), sampling at `times` or every `sample_every`."""
         t0, dt, ts = _run_args(t_end, dt, t0, sample_every, times, on_failure)
         z0 = _initial_modal_state(self.M, self.N, Q0, P0)
-        S, M = ts.size, self.M
-        states = np.empty((max(S, 1), 2 * M))
-        done = ffi.new("int *")
-        status = lib.fpl_galerkin_run(_scheme(method), self._h, ptr(z0), t0, dt,
-                                      ptr(ts) if S else ffi.NULL, S, ffi.NULL, ptr(states), done)
-        k = done[0]
+        M = self.M
+        states = np.empty((max(ts.size, 1), 2 * M))
+        status, k = self._h.run(_scheme(method), z0, t0, dt, ts, states)
         run = ModalRun(ts[:k].copy(), states[:k, :M].copy(), states[:k, M:].copy(), self.omega,
                        dt, method)
         return _finish(run, status, on_failure)
