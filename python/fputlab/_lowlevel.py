@@ -14,7 +14,6 @@ Defaults come from C once, at import: `DT`, `RTOL`, `ATOL`, `MAX_STEPS` from
 ``fpl_integrator_options_init`` and `CHAOS_DEFAULTS` from ``fpl_chaos_options_init``."""
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np

@@ -14,8 +14,9 @@ from ._arrays import as_float_array
 from ._engine import check_ensemble, run_calls
 from ._errors import Interrupted
 from ._pacing import Pacer, first_span
-from .integrate import CRITERIA, Integrator, check_steps, method_info, set_criteria
-from ._validate import _int, _real
+from ._validate import _real
+# CRITERIA and set_criteria stay importable from here (fputlab.blowup.set_criteria)
+from .integrate import CRITERIA, Integrator, check_steps, method_info, set_criteria  # noqa: F401
 from .lattice import Lattice
 from .reduction import realisation_quadratics
 
