@@ -405,7 +405,7 @@ def test_resume_check_survives_a_crash_or_hang_inside_libhdf5(tmp_path, monkeypa
     import time
 
     import fputlab._lowlevel as ll
-    import fputlab.io as io
+    import fputlab.io.files as files
     out, ck = tmp_path / "r.h5", tmp_path / "r.ckpt"
     simulate_to_file(lat8(), 50.0, out, checkpoint=ck)
     before = sha(out), sha(ck)
@@ -421,7 +421,7 @@ def test_resume_check_survives_a_crash_or_hang_inside_libhdf5(tmp_path, monkeypa
     with pytest.raises(OSError, match="SIGSEGV"):
         simulate_to_file(lat8(), 60.0, out, checkpoint=ck)
     monkeypatch.setattr(ll, "results_verify", hanging)
-    monkeypatch.setattr(io, "VERIFY_TIMEOUT", 1.0)
+    monkeypatch.setattr(files, "VERIFY_TIMEOUT", 1.0)
     with pytest.raises(OSError, match="did not finish"):
         simulate_to_file(lat8(), 60.0, out, checkpoint=ck)
     assert (sha(out), sha(ck)) == before
