@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import fputlab
-from fputlab import blowup, chaos, figures, figures_reduction, plotting, reduction
+from fputlab import blowup, chaos, figures, figures_reduction, io, plotting, reduction
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -21,8 +21,14 @@ MAIN = [fputlab.Lattice, fputlab.Lattice.integrate, fputlab.integrate, fputlab.I
         plotting.plot_mode_energies, plotting.envelope, plotting.plot_envelope, plotting.plot_mle,
         plotting.plot_sali, plotting.plot_two_mode, plotting.plot_blowup_sweep,
         plotting.plot_bifurcation, plotting.plot_bifurcation_curves,
-        figures.fig1, figures.fig2, figures.fig3, reduction.two_mode_coefficients,
-        reduction.critical_tolerance, reduction.two_mode_run, reduction.envelope_run]
+        figures.fig1, figures.fig2, figures.fig3, plotting.plot_blowup_sweep_figure,
+        io.simulate_to_file, io.chaos_to_file, io.load, io.write_checkpoint, io.load_checkpoint,
+        io.checkpoint_time, io.ResultsFile]
+# every public function of the reduction modules
+MAIN += [obj for mod in (reduction.coefficients, reduction.statistics, reduction.modal,
+                         reduction.envelope, reduction.reduced)
+         for name, obj in vars(mod).items()
+         if inspect.isfunction(obj) and not name.startswith("_") and obj.__module__ == mod.__name__]
 
 
 def documented_parameters(doc: str) -> list[str]:

@@ -19,19 +19,57 @@ COEFFICIENT_NAMES = ("a1", "a2", "a3", "b1", "b2", "b3")
 
 
 def frequencies(N: int) -> tuple[float, float]:
-    """(omega_1, omega_2) of the fixed-end chain, omega_k = 2 sin(k pi/(2(N+1)))."""
+    """The two lowest normal-mode frequencies of the fixed-end chain.
+
+    Parameters
+    ----------
+    N : int
+        Lattice size.
+
+    Returns
+    -------
+    tuple of float
+        (omega_1, omega_2), omega_k = 2 sin(k pi/(2(N+1))).
+
+    Raises
+    ------
+    TypeError
+        N is not an integer.
+    """
     N = _int(N, "N")
     return 2.0 * math.sin(math.pi / (2 * (N + 1))), 2.0 * math.sin(math.pi / (N + 1))
 
 
 def detuning(N: int) -> float:
-    """eps = omega_2 - 2 omega_1 (negative, about -(pi/(N+1))^3 / 4 for large N)."""
+    """The detuning eps = omega_2 - 2 omega_1 of the two-mode resonance.
+
+    Parameters
+    ----------
+    N : int
+        Lattice size.
+
+    Returns
+    -------
+    float
+        eps (negative, about -(pi/(N+1))^3 / 4 for large N).
+    """
     w1, w2 = frequencies(N)
     return w2 - 2.0 * w1
 
 
 def r1_squared(N: int) -> float:
-    """``r_1^2 = |q_1(0)|^2 = (Q_1(0)/2)^2 = (N+1)/8`` for the paper's initial state (Eq. initxi)."""
+    """``r_1^2 = |q_1(0)|^2 = (Q_1(0)/2)^2 = (N+1)/8`` for the paper's initial state (Eq. initxi).
+
+    Parameters
+    ----------
+    N : int
+        Lattice size.
+
+    Returns
+    -------
+    float
+        (N + 1)/8.
+    """
     return (_int(N, "N") + 1) / 8.0
 
 
@@ -130,7 +168,27 @@ def two_mode_coefficients(N=64, alpha: float = 0.25, v=None, *,
 
 
 def quadratic_forms(N: int, alpha: float = 0.25) -> tuple[np.ndarray, np.ndarray]:
-    """Tridiagonal M of each raw coefficient, c = v^T M v (models 2, 3): (diag (6, N), off (6, N-1))."""
+    """The tridiagonal matrix M of each raw coefficient, c = v^T M v (models 2 and 3).
+
+    Parameters
+    ----------
+    N : int
+        Lattice size (>= 2).
+    alpha : float, optional
+        Cubic coupling.
+
+    Returns
+    -------
+    diag : numpy.ndarray
+        Diagonals, shape (6, N), one row per coefficient (order `COEFFICIENT_NAMES`).
+    off : numpy.ndarray
+        Off-diagonals, shape (6, N - 1).
+
+    Raises
+    ------
+    ValueError
+        N < 2.
+    """
     N = _int(N, "N")
     if N < 2:
         raise ValueError(f"N must be >= 2 (got {N})")

@@ -15,7 +15,21 @@ from .modal import ModalRun
 
 
 def envelope_rhs(q: np.ndarray, A_tilde: float, B_tilde: float) -> np.ndarray:
-    """dq/dT of Eq. (msfinal2): i q1' = q1 + A~ conj(q1) q2, i q2' = q2 + B~ q1^2."""
+    """dq/dT of the envelope equations, Eq. (msfinal2): i q1' = q1 + A~ conj(q1) q2,
+    i q2' = q2 + B~ q1^2.
+
+    Parameters
+    ----------
+    q : numpy.ndarray
+        Complex (q_1, q_2) in the last axis, shape (..., 2).
+    A_tilde, B_tilde : float
+        The paper-normalised coefficients.
+
+    Returns
+    -------
+    numpy.ndarray
+        dq/dT, the shape of `q`.
+    """
     q1, q2 = q[..., 0], q[..., 1]
     return np.stack([-1j * (q1 + A_tilde * np.conj(q1) * q2), -1j * (q2 + B_tilde * q1 * q1)],
                     axis=-1)
@@ -130,6 +144,22 @@ def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: in
 
 
 def envelope_error(two_mode: ModalRun, envelope: EnvelopeRun, eps: float) -> np.ndarray:
-    """max over the samples of ``|Q_j - Q_j^env|`` for j = 1, 2 (Q^env from `reconstruct`)."""
+    """How far the envelope equations are from the two-mode system: the largest
+    ``|Q_j - Q_j^env|`` over the samples, j = 1, 2 (Q^env from `EnvelopeRun.reconstruct`).
+
+    Parameters
+    ----------
+    two_mode : ModalRun
+        A run of the two-mode system (`two_mode_run`).
+    envelope : EnvelopeRun
+        The envelope run (`envelope_run`) covering the slow times eps t of its samples.
+    eps : float
+        The detuning omega_2 - 2 omega_1 (`detuning`).
+
+    Returns
+    -------
+    numpy.ndarray
+        The two maxima, shape (2,).
+    """
     Qe = envelope.reconstruct(two_mode.t, two_mode.omega, eps)
     return np.abs(two_mode.Q - Qe).max(axis=0)

@@ -15,8 +15,19 @@ from .envelope import envelope_run
 
 
 def to_reduced(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(P, Delta, theta) from q (..., 2): q_1 = r_1 e^{i phi_1}, q_2 = r_2 e^{2 i phi_2},
-    theta = phi_2 - phi_1 in [0, pi) (phi_2 is defined modulo pi)."""
+    """The reduced variables of envelopes q: q_1 = r_1 e^{i phi_1}, q_2 = r_2 e^{2 i phi_2},
+    P = r_1^2 + r_2^2, Delta = r_1^2 - r_2^2, theta = phi_2 - phi_1.
+
+    Parameters
+    ----------
+    q : array_like
+        Complex (q_1, q_2) in the last axis, shape (..., 2).
+
+    Returns
+    -------
+    P, Delta, theta : numpy.ndarray
+        Each of shape (...); theta in [0, pi) (phi_2 is defined modulo pi).
+    """
     q = np.asarray(q, dtype=complex)
     r1s, r2s = np.abs(q[..., 0]) ** 2, np.abs(q[..., 1]) ** 2
     theta = np.mod(0.5 * np.angle(q[..., 1]) - np.angle(q[..., 0]), np.pi)
@@ -149,10 +160,26 @@ class ReducedSystem:
 
 
 def equilibrium_map(A_tilde, B_tilde, r1sq: float = r1_squared(64)) -> dict:
-    """Delta_1, Delta_2, lambda^2 of each and well-definedness over arrays of (A~, B~) for the
-    paper's initial state, C S = 2 B~ r1sq (so 6 A~ S C = 12 A~ B~ r1sq). NaN where Eq. (equicrit)
-    fails. Delta_1 is written without the cancellation 1 - s at small B~ (s = sqrt(1 + 12 A B r^2)),
-    so it tends to r1sq as B~ -> 0 while Delta_2 diverges."""
+    """The equilibria of Eq. (reduced) over arrays of (A~, B~) for the paper's initial
+    state, C S = 2 B~ r1sq (so 6 A~ S C = 12 A~ B~ r1sq).
+
+    Delta_1 is written without the cancellation 1 - s at small B~ (s = sqrt(1 + 12 A B r^2)),
+    so it tends to r1sq as B~ -> 0 while Delta_2 diverges.
+
+    Parameters
+    ----------
+    A_tilde, B_tilde : array_like
+        The paper-normalised coefficients (broadcast together).
+    r1sq : float, optional
+        r_1^2 of the initial state (default: N = 64).
+
+    Returns
+    -------
+    dict
+        ``delta1``, ``delta2``, their eigenvalues squared ``lam2_1``, ``lam2_2``, whether each
+        is well defined (``well_defined1``, ``well_defined2``) and where they exist
+        (``exists``; NaN values where Eq. (equicrit) fails).
+    """
     A, B = np.broadcast_arrays(np.asarray(A_tilde, float), np.asarray(B_tilde, float))
     S = A + B
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -173,8 +200,21 @@ def equilibrium_map(A_tilde, B_tilde, r1sq: float = r1_squared(64)) -> dict:
 
 
 def bifurcation_curves(A_tilde, r1sq: float = r1_squared(64)) -> dict:
-    """B~ on the curves of Fig. 7 as functions of A~: existence 1 + 12 A~B~r1^2 = 0 ("blue"),
-    centre/saddle of Delta_2 1 - 4 A~B~r1^2 = 0 ("red") and A~ + B~ = 0 ("black")."""
+    """B~ on the curves of Fig. 7 as functions of A~.
+
+    Parameters
+    ----------
+    A_tilde : array_like
+        Values of A~.
+    r1sq : float, optional
+        r_1^2 of the initial state (default: N = 64).
+
+    Returns
+    -------
+    dict
+        ``blue``: existence, 1 + 12 A~B~r1^2 = 0; ``red``: centre/saddle of Delta_2,
+        1 - 4 A~B~r1^2 = 0; ``black``: A~ + B~ = 0.
+    """
     A = np.asarray(A_tilde, dtype=float)
     with np.errstate(divide="ignore"):
         return {"blue": -1.0 / (12.0 * A * r1sq), "red": 1.0 / (4.0 * A * r1sq), "black": -A}
@@ -191,7 +231,20 @@ REGIONS = {
 
 
 def classify(A_tilde, B_tilde, r1sq: float = r1_squared(64)) -> np.ndarray:
-    """Region code (see REGIONS) over arrays of (A~, B~) for the paper's initial state."""
+    """The region of each (A~, B~) by its equilibria, for the paper's initial state (Figs. 7-8).
+
+    Parameters
+    ----------
+    A_tilde, B_tilde : array_like
+        The paper-normalised coefficients (broadcast together).
+    r1sq : float, optional
+        r_1^2 of the initial state (default: N = 64).
+
+    Returns
+    -------
+    numpy.ndarray
+        Integer region codes (see `REGIONS`).
+    """
     m = equilibrium_map(A_tilde, B_tilde, r1sq)
     w1, w2 = m["well_defined1"], m["well_defined2"]
     code = np.full(np.shape(w1), 4, dtype=int)

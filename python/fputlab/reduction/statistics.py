@@ -72,9 +72,34 @@ class CoefficientMoments(ResultMixin):
 
 def coefficient_moments(tau, N: int = 64, alpha: float = 0.25, *, kind: str = "gaussian",
                         model="nonlinear") -> CoefficientMoments:
-    """Exact expectation and covariance of the raw coefficients over v = 1 + s z (z i.i.d. of the
-    given kind, as fputlab.draw_disorder) for each tau (percent): no sampling. The Gaussian case
-    needs E z^2 = 1 and E z^4 = 3 only (see reduction.h for the formulas)."""
+    """Exact expectation and covariance of the raw coefficients over the disorder
+    v = 1 + s z (z i.i.d. of the given kind, as `fputlab.draw_disorder`): no sampling.
+
+    The Gaussian case needs E z^2 = 1 and E z^4 = 3 only (see reduction.h for the formulas).
+
+    Parameters
+    ----------
+    tau : float or array_like
+        Tolerances (percent).
+    N : int, optional
+        Lattice size.
+    alpha : float, optional
+        Cubic coupling.
+    kind : {"gaussian", "truncated", "uniform"}, optional
+        Distribution of z.
+    model : str or int, optional
+        Lattice model (default "nonlinear").
+
+    Returns
+    -------
+    CoefficientMoments
+        ``mean`` (T, 6), ``cov`` (T, 6, 6) and those of A~, B~.
+
+    Raises
+    ------
+    ValueError
+        An unknown disorder kind or model, or tau not a scalar or 1-D.
+    """
     N = _int(N, "N")
     if kind not in DISORDERS:
         raise ValueError(f"disorder {kind!r} is unknown (known: {', '.join(DISORDERS)})")
@@ -132,9 +157,36 @@ class RealisationQuadratics(ResultMixin):
 
 def realisation_quadratics(N: int = 64, alpha: float = 0.25, R: int = 100, *, seed0: int = 1,
                            kind: str = "gaussian") -> RealisationQuadratics:
-    """Realisations r = 0..R-1 with seeds seed0 + r: z from fpl_disorder_standard, v = 1 + s(tau) z
-    for every tau (same z). Exact quadratics from the tridiagonal forms: c(v) = v^T M v with
-    v = 1 + s z gives c0 = 1^T M 1, c1 = 2 (M 1).z s/tau, c2 = z^T M z (s/tau)^2."""
+    """Each realisation's coefficients as exact quadratics in tau.
+
+    Realisations r = 0..R-1 have seeds seed0 + r and draws z from fpl_disorder_standard;
+    v = 1 + s(tau) z for every tau (the same z). From the tridiagonal forms, c(v) = v^T M v with
+    v = 1 + s z gives c0 = 1^T M 1, c1 = 2 (M 1).z s/tau, c2 = z^T M z (s/tau)^2.
+
+    Parameters
+    ----------
+    N : int, optional
+        Lattice size.
+    alpha : float, optional
+        Cubic coupling.
+    R : int, optional
+        Number of realisations (>= 1).
+    seed0 : int, optional
+        Seed of the first realisation.
+    kind : {"gaussian", "truncated", "uniform"}, optional
+        Distribution of z.
+
+    Returns
+    -------
+    RealisationQuadratics
+        ``raw`` (R, 6, 3) and A~, B~ (R, 3) as [c0, c1, c2]; `critical_tolerances()` gives each
+        realisation's tau_c.
+
+    Raises
+    ------
+    ValueError
+        R < 1, a seed out of range or an unknown disorder kind.
+    """
     N, R = _int(N, "N"), _int(R, "R")
     if R < 1:
         raise ValueError(f"R must be >= 1 (got {R})")
@@ -184,7 +236,36 @@ class EnsembleStatistics(ResultMixin):
 
 def ensemble_statistics(tau, N: int = 64, alpha: float = 0.25, R: int = 100, *, seed0: int = 1,
                         kind: str = "gaussian", model="nonlinear") -> EnsembleStatistics:
-    """A~(tau), B~(tau) for R realisations (seeds seed0..seed0+R-1, the same z for every tau)."""
+    """A~(tau), B~(tau) of R realisations, one C projection per realisation and tau (as
+    the paper computed them).
+
+    Parameters
+    ----------
+    tau : array_like
+        Tolerances (percent), 1-D, finite, >= 0.
+    N : int, optional
+        Lattice size.
+    alpha : float, optional
+        Cubic coupling.
+    R : int, optional
+        Number of realisations (seeds seed0 .. seed0 + R - 1, the same z for every tau).
+    seed0 : int, optional
+        Seed of the first realisation.
+    kind : {"gaussian", "truncated", "uniform"}, optional
+        Distribution of z.
+    model : str or int, optional
+        Lattice model (default "nonlinear").
+
+    Returns
+    -------
+    EnsembleStatistics
+        A~, B~ of shape (R, T) with their sample means and standard deviations.
+
+    Raises
+    ------
+    ValueError
+        R < 1, tau not 1-D finite and >= 0, or an unknown disorder kind or model.
+    """
     N, R = _int(N, "N"), _int(R, "R")
     if R < 1:
         raise ValueError(f"R must be >= 1 (got {R})")
@@ -205,8 +286,23 @@ def ensemble_statistics(tau, N: int = 64, alpha: float = 0.25, R: int = 100, *, 
 
 
 def quadratic_fit(tau, values) -> tuple[np.ndarray, float]:
-    """Least-squares quadratic (highest power first, as numpy.polyfit) and its sum of squared
-    errors: the paper's 'polynomial regression' of the ensemble mean."""
+    """Least-squares quadratic through (tau, values): the paper's 'polynomial regression'
+    of the ensemble mean.
+
+    Parameters
+    ----------
+    tau : array_like
+        Abscissae.
+    values : array_like
+        Ordinates, the length of `tau`.
+
+    Returns
+    -------
+    coefficients : numpy.ndarray
+        Highest power first (as numpy.polyfit).
+    sse : float
+        Sum of squared errors of the fit.
+    """
     p = np.polyfit(np.asarray(tau, float), np.asarray(values, float), 2)
     sse = float(np.sum((np.polyval(p, tau) - values) ** 2))
     return p, sse
