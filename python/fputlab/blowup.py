@@ -42,7 +42,7 @@ class Blowup(ResultMixin):
 
 
 def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt: float | None = None,
-                rtol: float = 1e-10, atol: float = 1e-12, y0=None, criteria=None,
+                rtol: float = ll.RTOL, atol: float = ll.ATOL, y0=None, criteria=None,
                 progress: bool = False) -> Blowup:
     """Integrate until a stopping criterion fires (a blow-up) or `t_max`.
 

@@ -28,6 +28,9 @@ from .lattice import Lattice
 #: (method="dop853" or method="yoshida4", dt=0.01).
 ENSEMBLE_METHOD, ENSEMBLE_DT = "srkn14a6", 0.5
 
+#: the C defaults of the chaos options (fpl_chaos_options_init)
+_C = ll.CHAOS_DEFAULTS
+
 
 def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res, progress=True) -> int:
     """fpl_chaos_run through the resumable handle in segments of ~0.2 s (pauses fall on
@@ -82,9 +85,11 @@ def _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sal
 
 
 def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
-             rtol: float = 1e-10, atol: float = 1e-12, y0=None, w0=None, n_dev: int = 2,
-             renorm_interval: float = 1.0, n_samples: int = 200, t_first_sample: float = 0.0,
-             sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
+             rtol: float = ll.RTOL, atol: float = ll.ATOL, y0=None, w0=None,
+             n_dev: int = _C["n_dev"], renorm_interval: float = _C["renorm_interval"],
+             n_samples: int = _C["n_samples"], t_first_sample: float = _C["t_first_sample"],
+             sali_threshold: float = _C["sali_threshold"], stop_when_chaotic: bool = False,
+             seed: int = _C["seed"],
              t0: float = 0.0, progress: bool = False,
              blowup_stretch: float | None = None) -> ChaosResult:
     """Chaos indicators of one orbit: finite-time mLE λ(t), SALI(t) and GALI_k(t) (paper Sec. 5).

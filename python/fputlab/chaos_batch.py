@@ -21,6 +21,9 @@ from .lattice import Lattice
 #: methods the batch kernel runs (splitting schemes with the kinetic drift)
 BATCH_METHODS = ("leapfrog", "yoshida4", "aba864", "srkn14a6")
 
+#: the C defaults of the chaos options (fpl_chaos_options_init, shared by the batch handle)
+_C = ll.CHAOS_DEFAULTS
+
 _BLOWUP_REASONS = {0: "", 1: "event", 2: "non-finite", 3: "stretch"}
 
 
@@ -38,9 +41,11 @@ def _states(values, name: str, R: int, shape: tuple, default):
 
 
 def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
-                   y0=None, w0=None, n_dev: int = 2, renorm_interval: float = 1.0,
-                   n_samples: int = 200, t_first_sample: float = 0.0,
-                   sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
+                   y0=None, w0=None, n_dev: int = _C["n_dev"],
+                   renorm_interval: float = _C["renorm_interval"],
+                   n_samples: int = _C["n_samples"], t_first_sample: float = _C["t_first_sample"],
+                   sali_threshold: float = _C["sali_threshold"], stop_when_chaotic: bool = False,
+                   seed: int = _C["seed"],
                    t0: float = 0.0, criteria=None, progress: bool = False,
                    blowup_stretch: float | None = None) -> list[ChaosResult]:
     """lambda(t), SALI(t), GALI(t) of several orbits computed together; one ChaosResult each.

@@ -22,6 +22,9 @@ from ..lattice import Lattice
 from .files import (ResultsFile, _check_output_paths, _RunInfo, _verify_resume,
                     load_checkpoint, write_checkpoint)
 
+#: the C defaults of the chaos options (fpl_chaos_options_init)
+_C = ll.CHAOS_DEFAULTS
+
 
 class _Stopper:
     """SIGINT/SIGTERM set a flag; the run writes a checkpoint and stops at the next segment."""
@@ -421,8 +424,9 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
 
 def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida4",
                   dt: float | None = None, rtol: float = ll.RTOL, atol: float = ll.ATOL,
-                  y0=None, n_dev: int = 2, renorm_interval: float = 1.0, n_samples: int = 200,
-                  sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
+                  y0=None, n_dev: int = _C["n_dev"], renorm_interval: float = _C["renorm_interval"],
+                  n_samples: int = _C["n_samples"], sali_threshold: float = _C["sali_threshold"],
+                  stop_when_chaotic: bool = False, seed: int = _C["seed"],
                   checkpoint=None, checkpoint_every_steps: int | None = None,
                   checkpoint_every_seconds: float | None = 600.0, resume: bool = True,
                   progress: bool = False, segment: float | None = None,
