@@ -7,7 +7,7 @@ import numpy as np
 
 from . import _lowlevel as ll
 from ._arrays import as_float_array, check_memory
-from ._validate import C_U64, _int, _real
+from ._validate import C_INT, C_LONG, C_U64, _int, _real  # noqa: F401 (C_INT, C_LONG: public here)
 from .modes import omega as _omega
 
 #: model names (and the paper's equations) -> C model codes
