@@ -15,8 +15,28 @@ from ._validate import _int
 
 
 def check_ensemble(taus, Ns, realisations) -> tuple[list[float], list[int], int]:
-    """taus, Ns and realisations of an ensemble, checked: none empty, realisations >= 1 (an
-    empty ensemble would give NaN fractions without a word)."""
+    """The taus, Ns and realisations of an ensemble, checked (an empty ensemble would give NaN
+    fractions without a word).
+
+    Parameters
+    ----------
+    taus : float or sequence of float
+        Variabilities in percent (finite, >= 0, at least one).
+    Ns : int or sequence of int
+        Lattice sizes (>= 2, at least one).
+    realisations : int
+        Realisations per (tau, N) (>= 1).
+
+    Returns
+    -------
+    tuple
+        ``(taus, Ns, realisations)`` as a list of float, a list of int and an int.
+
+    Raises
+    ------
+    ValueError
+        An empty or invalid value; the message names the parameter.
+    """
     taus = [float(t) for t in np.atleast_1d(np.asarray(taus, dtype=float))]
     if not taus or not all(math.isfinite(t) and t >= 0 for t in taus):
         raise ValueError(f"taus must be a non-empty list of finite values >= 0 (got {taus})")
@@ -75,8 +95,24 @@ class _Pool(ProcessPoolExecutor):
 
 
 def process_pool(workers: int | None = None) -> ProcessPoolExecutor:
-    """A process pool whose workers die with this process (see _die_with_parent) and are
-    stopped at once when the pool is left by an exception (Ctrl-C)."""
+    """A process pool whose workers die with this process and are stopped at once when the pool
+    is left by an exception (Ctrl-C).
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes (>= 1; default: all cores).
+
+    Returns
+    -------
+    concurrent.futures.ProcessPoolExecutor
+        Use it as a context manager.
+
+    Raises
+    ------
+    ValueError
+        `workers` < 1.
+    """
     if workers is not None:
         workers = _int(workers, "workers")
         if workers < 1:
@@ -98,10 +134,34 @@ def _dask_client(scheduler):
 
 
 def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None):
-    """The ensemble engine: yield (call, result, error) for fn(*call) over every call (a tuple
-    of picklable arguments), in completion order, on a local process pool (`workers`, default
-    all cores) or, with `scheduler`, on a Dask cluster (`keys`: optional Dask task keys).
-    Exactly one of result and error is None. Every sweep of fputlab runs on it."""
+    """The ensemble engine: ``fn(*call)`` for every call, on a local process pool or a Dask
+    cluster, yielded in completion order. Every sweep of fputlab runs on it.
+
+    Parameters
+    ----------
+    fn : callable
+        A picklable (module-level) function.
+    calls : iterable of tuple
+        The positional arguments of each call (picklable).
+    workers : int, optional
+        Local worker processes (default: all cores); ignored with `scheduler`.
+    scheduler : str, dask.distributed.Client or cluster, optional
+        Run on Dask instead: an address "tcp://host:port", a Client, or a cluster object.
+    keys : list of str, optional
+        Dask task keys, one per call (default: random keys).
+
+    Yields
+    ------
+    tuple
+        ``(call, result, error)``: exactly one of `result` and `error` (the exception the call
+        raised) is None.
+
+    Examples
+    --------
+    >>> from operator import add
+    >>> sorted(r for _, r, _ in run_calls(add, [(1, 2), (3, 4)], workers=2))  # doctest: +SKIP
+    [3, 7]
+    """
     calls = list(calls)
     if scheduler is None:
         pool = process_pool(workers)

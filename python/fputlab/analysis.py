@@ -1,4 +1,13 @@
-"""Recurrence and localisation measures computed from a run's mode energies."""
+"""Recurrence and localisation measures computed from a run's mode energies (paper Figs. 1-2).
+
+Every function takes a `fputlab.Run` (or its ``mode_energies``, shape (samples, N)).
+
+    >>> import fputlab
+    >>> from fputlab import analysis
+    >>> run = fputlab.Lattice(32).integrate(2e4, sample_every=10.0)
+    >>> times, heights = analysis.recurrences(run)       # FPUT recurrences of mode 1
+    >>> analysis.effective_modes(run)[-1]                 # modes sharing the energy at the end
+"""
 from __future__ import annotations
 
 import numpy as np
@@ -15,9 +24,39 @@ def _energies(run_or_energies):
 
 
 def recurrences(run, mode: int = 1, min_fraction: float = 0.1, min_separation: float | None = None):
-    """Recurrence times: local maxima of E_mode(t) (after the initial decay) whose height is at
-    least `min_fraction` of the total, separated by at least `min_separation` (default: a tenth of
-    the run). Returns (times, fractions of the total harmonic energy returned to the mode)."""
+    """Recurrence times of a mode: the returns of its energy towards the initial state.
+
+    A recurrence is a local maximum of E_mode(t) / sum_k E_k(t) after the initial decay, at least
+    `min_fraction` high; of maxima closer than `min_separation` only the highest is kept.
+
+    Parameters
+    ----------
+    run : Run
+        A run with sample times ``t`` and ``mode_energies`` (samples, N).
+    mode : int, optional
+        Mode number k (1-based; the paper's initial state is mode 1).
+    min_fraction : float, optional
+        Smallest share of the total harmonic energy that counts as a recurrence.
+    min_separation : float, optional
+        Smallest time between two recurrences (default: a tenth of the run's duration).
+
+    Returns
+    -------
+    times : numpy.ndarray
+        Recurrence times, ascending.
+    fractions : numpy.ndarray
+        Share of the total harmonic energy back in the mode at each of them.
+
+    Raises
+    ------
+    ValueError
+        The mode energies are not a 2-D array.
+
+    Examples
+    --------
+    >>> run = fputlab.Lattice(32).integrate(2e4, sample_every=10.0)   # doctest: +SKIP
+    >>> times, fractions = recurrences(run)                          # doctest: +SKIP
+    """
     ek = _energies(run)
     t = np.asarray(run.t)
     total = ek.sum(axis=1)
@@ -36,7 +75,25 @@ def recurrences(run, mode: int = 1, min_fraction: float = 0.1, min_separation: f
 
 
 def energy_share(run, m: int) -> np.ndarray:
-    """Share of the harmonic energy in the first m modes, per sample."""
+    """Share of the harmonic energy in the first m modes, per sample.
+
+    Parameters
+    ----------
+    run : Run or array_like
+        A run (its ``mode_energies``) or the mode energies themselves, shape (samples, N).
+    m : int
+        Number of modes counted, 1..N.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``sum_{k<=m} E_k / sum_k E_k`` per sample, in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        `m` outside 1..N, or mode energies that are not a 2-D array.
+    """
     ek = _energies(run)
     if not 1 <= m <= ek.shape[1]:
         raise ValueError(f"m must be in 1..N = {ek.shape[1]} (got {m})")
@@ -44,7 +101,23 @@ def energy_share(run, m: int) -> np.ndarray:
 
 
 def spectral_entropy(run) -> np.ndarray:
-    """eta = -sum_k e_k ln e_k with e_k = E_k / sum E_k (0: one mode; ln N: equipartition)."""
+    """Spectral entropy ``eta = -sum_k e_k ln e_k`` with ``e_k = E_k / sum_k E_k``, per sample.
+
+    Parameters
+    ----------
+    run : Run or array_like
+        A run (its ``mode_energies``) or the mode energies themselves, shape (samples, N).
+
+    Returns
+    -------
+    numpy.ndarray
+        eta per sample: 0 when one mode holds all the energy, ln N at equipartition.
+
+    Raises
+    ------
+    ValueError
+        Mode energies that are not a 2-D array.
+    """
     ek = _energies(run)
     e = ek / ek.sum(axis=1, keepdims=True)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -53,11 +126,43 @@ def spectral_entropy(run) -> np.ndarray:
 
 
 def effective_modes(run) -> np.ndarray:
-    """exp(spectral entropy): the effective number of modes sharing the energy (1..N)."""
+    """The effective number of modes sharing the energy: ``exp(eta)`` (`spectral_entropy`).
+
+    Parameters
+    ----------
+    run : Run or array_like
+        A run (its ``mode_energies``) or the mode energies themselves, shape (samples, N).
+
+    Returns
+    -------
+    numpy.ndarray
+        Per sample, between 1 (one mode) and N (equipartition).
+
+    Raises
+    ------
+    ValueError
+        Mode energies that are not a 2-D array.
+    """
     return np.exp(spectral_entropy(run))
 
 
 def normalised_entropy(run) -> np.ndarray:
-    """eta / ln N in [0, 1]: 0 when one mode holds all the energy, 1 at equipartition."""
+    """The spectral entropy normalised by its largest value: ``eta / ln N``.
+
+    Parameters
+    ----------
+    run : Run or array_like
+        A run (its ``mode_energies``) or the mode energies themselves, shape (samples, N).
+
+    Returns
+    -------
+    numpy.ndarray
+        Per sample, in [0, 1]: 0 when one mode holds all the energy, 1 at equipartition.
+
+    Raises
+    ------
+    ValueError
+        Mode energies that are not a 2-D array.
+    """
     ek = _energies(run)
     return spectral_entropy(run) / np.log(ek.shape[1])

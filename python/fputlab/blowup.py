@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -132,11 +133,31 @@ def realisation_tau_c(N: int, seed: int, alpha: float = 0.25, disorder: str = "g
     return float(realisation_quadratics(N, alpha, R=1, seed0=seed, kind=disorder).critical_tolerances()[0])
 
 
+class BlowupRecord(NamedTuple):
+    """One realisation of a blow-up sweep (`blowup_sweep`'s ``records``), read by name.
+
+    Still a tuple, so ``np.array(records, dtype=float)`` gives the (runs, 6) array of the CLI's
+    HDF5 files and `BlowupRecord.to_array` a structured array with these field names."""
+    tau: float          #: variability (percent)
+    N: int              #: lattice size
+    seed: int           #: disorder seed
+    blew_up: bool       #: a stopping criterion fired before t_max
+    time: float         #: blow-up time (NaN if none)
+    tau_c: float        #: the realisation's own two-mode threshold (`realisation_tau_c`)
+
+    @staticmethod
+    def to_array(records) -> np.ndarray:
+        """The records as a structured numpy array (fields tau, N, seed, blew_up, time, tau_c)."""
+        dtype = [("tau", float), ("N", np.int64), ("seed", np.int64), ("blew_up", bool),
+                 ("time", float), ("tau_c", float)]
+        return np.array([tuple(r) for r in records], dtype=dtype)
+
+
 def _one(args):
     N, tau, seed, model, alpha, t_max, method, kwargs = args
     lat = Lattice(N, alpha, model, tau=tau, seed=seed)
     res = blowup_time(lat, t_max, method=method, **kwargs)
-    return tau, N, seed, res.blew_up, res.time, realisation_tau_c(N, seed, alpha)
+    return BlowupRecord(tau, N, seed, res.blew_up, res.time, realisation_tau_c(N, seed, alpha))
 
 
 def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
@@ -177,10 +198,11 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
     -------
     dict
         ``tau``, ``N``, ``probability`` (len(taus) x len(Ns)), the per-realisation ``records``
-        (tau, N, seed, blew_up, time, tau_c) where tau_c is the realisation's own two-mode
-        threshold (B~ < 0 above it), and ``prediction_accuracy``: the share of runs where
-        "tau > tau_c" agrees with "blew up before t_max". Plot with
-        `fputlab.plotting.plot_blowup_sweep_figure` or `fputlab.plotting.plot_blowup_sweep`.
+        (`BlowupRecord`: tau, N, seed, blew_up, time, tau_c, in the order tau, N, seed) where
+        tau_c is the realisation's own two-mode threshold (B~ < 0 above it), and
+        ``prediction_accuracy``: the share of runs where "tau > tau_c" agrees with "blew up
+        before t_max". Plot with `fputlab.plotting.plot_blowup_sweep_figure` or
+        `fputlab.plotting.plot_blowup_sweep`.
     """
     from tqdm.auto import tqdm
 
@@ -199,9 +221,9 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
     prob = np.zeros((len(taus), len(Ns)))
     for i, tau in enumerate(taus):
         for j, N in enumerate(Ns):
-            hits = [r[3] for r in records if r[0] == tau and r[1] == N]
+            hits = [r.blew_up for r in records if r.tau == tau and r.N == N]
             prob[i, j] = np.mean(hits)
-    agree = [(r[0] > r[5]) == r[3] for r in records if np.isfinite(r[5])]
+    agree = [(r.tau > r.tau_c) == r.blew_up for r in records if np.isfinite(r.tau_c)]
     return {"tau": np.array(taus), "N": np.array(Ns), "probability": prob, "records": records,
             "t_max": t_max, "realisations": realisations,
             "prediction_accuracy": float(np.mean(agree)) if agree else float("nan")}

@@ -5,6 +5,7 @@ from __future__ import annotations
 import inspect
 import os
 import time
+from typing import NamedTuple
 
 import numpy as np
 
@@ -141,7 +142,24 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     ChaosResult
         ``t``, ``mle``, ``sali``, ``gali`` at the sample times, and whether and when the orbit
         was found chaotic. A blow-up ends the run cleanly: ``blew_up``, ``t_blowup`` and
-        ``message`` say when and why, and the samples before it are kept.
+        ``message`` say when and why, and the samples before it are kept. A numerical failure
+        (not a blow-up) also returns, with ``completed`` False and the reason in ``message``.
+
+    Raises
+    ------
+    TypeError
+        `lattice` is not a `fputlab.Lattice`.
+    ValueError
+        An invalid option (unknown method, wrong shape of `y0` or `w0`, ...); the message
+        names it.
+    Interrupted
+        Ctrl-C; its ``result`` holds the ChaosResult computed so far.
+
+    Examples
+    --------
+    >>> import fputlab
+    >>> res = lyapunov(fputlab.Lattice(16), 1e4)          # doctest: +SKIP
+    >>> res.classify(), res.mle_final                     # doctest: +SKIP
     """
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
@@ -185,14 +203,21 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     return out
 
 
-def _one_realisation(args):
+class OrbitRecord(NamedTuple):
+    """One orbit of a chaos ensemble: its lattice size, disorder seed and result, read by name."""
+    N: int
+    seed: int
+    result: ChaosResult
+
+
+def _one_realisation(args) -> OrbitRecord:
     N, tau, seed, model, alpha, t_end, method, kwargs = args
     lat = Lattice(N, alpha, model, tau=tau, seed=seed)
     res = lyapunov(lat, t_end, method=method, **kwargs)
-    return N, seed, res
+    return OrbitRecord(N, seed, res)
 
 
-def _batch_of_realisations(args):
+def _batch_of_realisations(args) -> list[OrbitRecord]:
     """Several realisations of one N in one batched run (fputlab.chaos_batch): the same numbers
     as `_one_realisation` for each, several times cheaper per orbit for small N."""
     N, tau, seeds, model, alpha, t_end, method, kwargs = args
@@ -200,7 +225,7 @@ def _batch_of_realisations(args):
         return [_one_realisation((N, tau, seeds[0], model, alpha, t_end, method, kwargs))]
     lats = [Lattice(N, alpha, model, tau=tau, seed=s) for s in seeds]
     res = lyapunov_batch(lats, t_end, method=method, **kwargs)
-    return [(N, s, r) for s, r in zip(seeds, res)]
+    return [OrbitRecord(N, s, r) for s, r in zip(seeds, res)]
 
 
 def ensemble_defaults(method: str | None, kwargs: dict) -> tuple[str, dict]:
@@ -218,15 +243,63 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
                      t_end: float = 1e4, model: str = "nonlinear", alpha: float = 0.25,
                      method: str | None = None, first_seed: int = 1, workers: int | None = None,
                      scheduler=None, progress: bool = False, **kwargs) -> dict:
-    """Percentage of chaotic orbits (SALI < threshold on a finite orbit) over `realisations`
-    disorder draws for each N (paper Fig. 14: tau = 10 %, model 3, t = 1e8), and how many blew
-    up (never counted as chaotic). Realisations run on the ensemble engine (local processes,
-    or a Dask cluster with `scheduler`). method: default ENSEMBLE_METHOD at ENSEMBLE_DT; chaotic
-    orbits stop early unless stop_when_chaotic=False. kwargs go to `lyapunov`. The splitting
-    schemes run the orbits of one N in the vector lanes of the batched kernel
-    (fputlab.chaos_batch.lyapunov_batch: the same numbers, several times cheaper for N <= 16).
-    Returns {"N", "percent", "blowups", "classes": {N: {class: count}},
-    "results": {N: [ChaosResult, ...]}}. For t = 1e8 use the resumable fputlab.study."""
+    """Percentage of chaotic orbits over disorder realisations for each lattice size (paper
+    Fig. 14: tau = 10 %, model 3, t = 1e8), and how many blew up.
+
+    An orbit counts as chaotic when SALI falls below its threshold on the finite orbit
+    (`ChaosResult.classify`); a blow-up is never counted as chaotic. The realisations run on
+    the ensemble engine (`fputlab.ensemble.run_calls`: local processes, or a Dask cluster with
+    `scheduler`). The splitting schemes run the orbits of one N in the vector lanes of the
+    batched kernel (`fputlab.chaos_batch.lyapunov_batch`: the same numbers, several times
+    cheaper for N <= 16). For t = 1e8 use the resumable `fputlab.study`.
+
+    Parameters
+    ----------
+    Ns : sequence of int, optional
+        Lattice sizes (each >= 2).
+    realisations : int, optional
+        Disorder realisations per N (>= 1), seeds ``first_seed, first_seed + 1, ...``.
+    tau : float, optional
+        Variability in percent (the paper's 10 %).
+    t_end : float, optional
+        Final time of every orbit.
+    model : str, optional
+        Lattice model (default "nonlinear", the paper's model 3).
+    alpha : float, optional
+        Cubic coupling.
+    method : str, optional
+        Integrator name (default: `ENSEMBLE_METHOD` at ``dt = ENSEMBLE_DT``, validated to
+        classify orbits as the paper's methods do).
+    first_seed : int, optional
+        Disorder seed of the first realisation.
+    workers : int, optional
+        Local worker processes (default: all cores).
+    scheduler : str or dask.distributed.Client, optional
+        Run on a Dask cluster instead (an address "tcp://host:port", a Client or a cluster).
+    progress : bool, optional
+        A progress bar over the orbits (tqdm.auto).
+    **kwargs
+        Passed to `lyapunov` (dt, n_samples, sali_threshold, ...); chaotic orbits stop early
+        unless ``stop_when_chaotic=False`` is given.
+
+    Returns
+    -------
+    dict
+        ``N`` (the sizes), ``percent`` (chaotic orbits per N, in percent), ``blowups`` (blown-up
+        orbits per N), ``classes`` ({N: {class: count}} over `CLASSES`) and ``results``
+        ({N: [ChaosResult, ...]} in seed order).
+
+    Raises
+    ------
+    ValueError
+        Empty `Ns`, a size below 2, `realisations` < 1, or an invalid option of `lyapunov`.
+
+    Examples
+    --------
+    >>> from fputlab.chaos import chaotic_fraction
+    >>> out = chaotic_fraction(Ns=(4, 8), realisations=4, t_end=1e3)    # doctest: +SKIP
+    >>> out["percent"], out["classes"][8]                                 # doctest: +SKIP
+    """
     method, kwargs = ensemble_defaults(method, kwargs)
     _, Ns, realisations = check_ensemble([tau], Ns, realisations)
     Ns = [int(N) for N in Ns]
@@ -249,8 +322,8 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
         for _, out, err in run_calls(fn, calls, workers=workers, scheduler=scheduler):
             if err is not None:
                 raise err
-            for N, seed, res in (out if batched else [out]):
-                got[N, seed] = res
+            for orbit in (out if batched else [out]):
+                got[orbit.N, orbit.seed] = orbit.result
                 bar.update(1)
     results = {N: [got[N, first_seed + r] for r in range(realisations)] for N in Ns}
     classes = {N: {c: sum(r.classify() == c for r in results[N]) for c in CLASSES} for N in Ns}

@@ -2,35 +2,17 @@
 from __future__ import annotations
 
 import argparse
+import functools
+import inspect
 import json
+import math
 import os
 import sys
+from typing import NamedTuple
 
 import numpy as np
 
 from ._display import dumps_strict
-
-
-def _lattice_args(p, model="nonlinear", tau=10.0, N=64):
-    p.add_argument("--N", type=int, default=N, help=f"particles (default {N})")
-    p.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
-    p.add_argument("--beta", type=float, default=0.0, help="quartic coupling (default 0)")
-    p.add_argument("--model", default=model, choices=["homogeneous", "hamiltonian", "nonlinear"],
-                   help=f"lattice model (default {model})")
-    # default None: whether --tau was given matters (the homogeneous model refuses it)
-    p.add_argument("--tau", type=float, default=None, help=f"variability in percent (default {tau:g})")
-    p.set_defaults(tau_default=tau)
-    p.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
-    p.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
-                   help="distribution of the disorder draws")
-
-
-def _method_args(p, dt=0.01, method="yoshida4"):
-    p.add_argument("--method", default=method, help=f"integrator (see `fputlab methods`; "
-                   f"default {method or 'yoshida4, ensembles srkn14a6 at dt = 0.5'})")
-    p.add_argument("--dt", type=float, default=None, help=f"fixed step (default {dt:g})")
-    p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance (adaptive methods)")
-    p.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance (adaptive methods)")
 
 
 def _lattice(a):
@@ -43,9 +25,10 @@ def _lattice(a):
 
 def _homogeneous_check(a):
     """The homogeneous model has no disorder: a --tau given with it is refused, not ignored."""
-    if a.model == "homogeneous" and getattr(a, "tau_given", False) and a.tau != 0:
-        raise ValueError(f"--tau {a.tau:g}: the homogeneous model has no disorder (use --model "
-                         "hamiltonian or nonlinear, or drop --tau)")
+    taus = np.atleast_1d(np.asarray(a.tau if a.tau is not None else 0.0, dtype=float))
+    if a.model == "homogeneous" and getattr(a, "tau_given", False) and np.any(taus != 0):
+        raise ValueError(f"--tau {_g(taus.tolist())}: the homogeneous model has no disorder "
+                         "(use --model hamiltonian or nonlinear, or drop --tau)")
 
 
 def _positive(a, name: str, minimum: int = 1):
@@ -215,19 +198,24 @@ def cmd_blowup(a):
     _homogeneous_check(a)
     _output_paths(a, "out", "plot")
     _new_file(a, "out")
-    if a.realisations > 1 or len(a.taus) > 1:
+    if a.sweep:
         _ensemble_lattice_check(a)
-        out = blowup_sweep(a.taus, Ns=[a.N], realisations=a.realisations, t_max=a.t_max,
+        out = blowup_sweep(a.tau, Ns=a.N, realisations=a.realisations, t_max=a.t_end,
                            model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
-                           workers=a.workers, progress=not a.json, **_integrator_kwargs(a))
-        summary = {"tau": out["tau"].tolist(), "probability": out["probability"][:, 0].tolist(),
-                   "realisations": a.realisations, "t_max": a.t_max,
+                           workers=a.workers, scheduler=a.scheduler, progress=not a.json,
+                           **_integrator_kwargs(a))
+        summary = {"tau": out["tau"].tolist(), "N": out["N"].tolist(),
+                   "probability": out["probability"].tolist() if len(a.N) > 1
+                   else out["probability"][:, 0].tolist(),
+                   "realisations": a.realisations, "t_max": a.t_end,
                    "two_mode_prediction_accuracy": out["prediction_accuracy"],
-                   "records": [dict(zip(("tau", "N", "seed", "blew_up", "time", "tau_c"),
-                                        (float(x) for x in r[:6]))) for r in out["records"]]}
+                   "records": [r._asdict() for r in out["records"]]}
         if a.out:
-            rec = np.array([r[:6] for r in out["records"]], dtype=float)
-            _write_h5(a.out, {"t_max": a.t_max, "model": a.model, "N": a.N},
+            # the file keeps its layout: records as rows of floats (tau, N, seed, blew_up,
+            # time, tau_c), the BlowupRecord fields in order
+            rec = np.array([tuple(r) for r in out["records"]], dtype=float)
+            _write_h5(a.out, {"t_max": a.t_end, "model": a.model,
+                              "N": a.N[0] if len(a.N) == 1 else np.asarray(a.N)},
                       {"tau": out["tau"], "probability": out["probability"], "records": rec})
         if a.plot:
             from .plotting import plot_blowup_sweep_figure
@@ -235,54 +223,73 @@ def cmd_blowup(a):
             summary["plot"] = a.plot
         _emit(summary, a.json)
         return 0
-    res = blowup_time(_lattice(a), a.t_max, method=a.method, progress=not a.json,
+    if a.scheduler:
+        raise ValueError("--scheduler: only for a sweep (several --tau or --N values, or "
+                         "--realisations > 1)")
+    res = blowup_time(_lattice(a), a.t_end, method=a.method, progress=not a.json,
                       **_integrator_kwargs(a))
     _emit({"blew_up": res.blew_up, "time": res.time, "criterion": res.criterion,
            "t_reached": res.t_reached, "tau": a.tau, "seed": a.seed, "N": a.N}, a.json)
     return 0
 
 
+class ChaosRow(NamedTuple):
+    """One orbit of `fputlab chaos --realisations R`, a row of its HDF5 file's "records"."""
+    N: int
+    realisation: int
+    mle: float
+    sali: float
+    t_final: float
+
+
 def cmd_chaos(a):
     from .chaos import chaotic_fraction, lyapunov
-    if a.checkpoint and (not a.out or a.realisations > 1):
+    if a.scheduler and not a.fraction:
+        raise ValueError("--scheduler: only for the chaotic fraction (--realisations > 1 or "
+                         "several --N)")
+    if a.checkpoint and (not a.out or a.fraction):
         raise ValueError("--checkpoint needs --out and one orbit (use `fputlab sweep` for ensembles)")
     _positive(a, "realisations")
     _positive(a, "workers")
     _positive(a, "samples")
     _homogeneous_check(a)
     _output_paths(a, "out", "checkpoint")
-    if a.realisations > 1:
+    if a.fraction:
         _new_file(a, "out")
     opts = dict(_integrator_kwargs(a), n_samples=a.samples)
     if a.stop_when_chaotic:         # ensembles stop chaotic orbits anyway (chaos.ensemble_defaults)
         opts["stop_when_chaotic"] = True
-    if a.realisations > 1:
+    if a.fraction:
         _ensemble_lattice_check(a)
-        out = chaotic_fraction(Ns=a.Ns, realisations=a.realisations, tau=a.tau, t_end=a.t_end,
+        out = chaotic_fraction(Ns=a.N, realisations=a.realisations, tau=a.tau, t_end=a.t_end,
                                model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
-                               workers=a.workers, progress=not a.json, **opts)
+                               workers=a.workers, scheduler=a.scheduler, progress=not a.json,
+                               **opts)
         summary = {"N": out["N"], "percent_chaotic": out["percent"],
                    "blew_up": out["blowups"], "classes": out["classes"], "tau": a.tau,
                    "t_end": a.t_end, "method": out["results"][out["N"][0]][0].method}
         if a.out:
-            rows = [(N, i, r.mle_final, float(r.sali[-1]) if r.sali.size else np.nan, r.t_final)
+            rows = [ChaosRow(N, i, r.mle_final, float(r.sali[-1]) if r.sali.size else np.nan,
+                             r.t_final)
                     for N in out["N"] for i, r in enumerate(out["results"][N])]
-            _write_h5(a.out, {"model": a.model, "tau": a.tau, "t_end": a.t_end, "method": a.method,
-                              "columns": "N, realisation, mle, sali, t_final"},
-                      {"N": out["N"], "percent_chaotic": out["percent"], "records": rows})
+            _write_h5(a.out, {"model": a.model, "tau": a.tau, "t_end": a.t_end,
+                              "method": a.method,
+                              "columns": ", ".join(ChaosRow._fields)},
+                      {"N": out["N"], "percent_chaotic": out["percent"],
+                       "records": np.array([tuple(r) for r in rows], dtype=float)})
             summary["out"] = a.out
         _emit(summary, a.json)
         return 0
     if a.out:
         # written as it goes, with checkpoints: runs to t = 1e8 survive interruptions
         from .io import chaos_to_file
-        s = chaos_to_file(_lattice(a), a.t_end, a.out, method=a.method or "yoshida4", **opts,
+        s = chaos_to_file(_lattice(a), a.t_end, a.out, method=a.method, **opts,
                           overwrite=a.overwrite, **_checkpoint_kwargs(a))
         _emit(_run_summary(s), a.json)
         return {"completed": 0, "interrupted": 130}.get(s.status, 1)
     from ._errors import Interrupted
     try:
-        res = lyapunov(_lattice(a), a.t_end, method=a.method or "yoshida4",
+        res = lyapunov(_lattice(a), a.t_end, method=a.method,
                        progress=not a.json, **opts)
     except Interrupted as err:          # Ctrl-C: the summary of what was computed, exit 130
         res = err.result
@@ -305,7 +312,7 @@ def cmd_figures(a):
                          "figures are 1-14)")
     study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
              "scheduler": a.scheduler}
-    for p in all_figures(a.out, full=a.full, only=only, **study):
+    for p in all_figures(a.out_dir, full=a.full, only=only, **study):
         print(p)
     return 0
 
@@ -323,15 +330,10 @@ def cmd_methods(a):
 
 # ---- ensembles and the two-mode reduction ---------------------------------------------------
 
-_SWEEP_DEFAULTS = {"blowup": {"taus": [0.0, 5.0, 10.0, 15.0, 20.0], "Ns": [64]},
-                   "chaos": {"taus": [10.0], "Ns": [4, 8, 16, 32, 64]}}
-
-
 def cmd_sweep(a):
     from .ensemble import run_sweep
-    taus = getattr(a, "taus", None) or _SWEEP_DEFAULTS[a.kind]["taus"]
-    Ns = getattr(a, "Ns", None) or _SWEEP_DEFAULTS[a.kind]["Ns"]
-    opts = {k: v for k, v in (("dt", a.dt), ("rtol", a.rtol), ("atol", a.atol)) if v is not None}
+    _ensemble_lattice_check(a)
+    opts = _integrator_kwargs(a)
     if a.kind == "chaos" and a.samples is not None:
         opts["n_samples"] = a.samples
     elif a.samples is not None:
@@ -346,19 +348,19 @@ def cmd_sweep(a):
     if os.path.realpath(a.out).startswith(os.path.realpath(work_dir) + os.sep):
         raise ValueError(f"--out {a.out!r} is inside --work-dir {work_dir!r}: keep the merged "
                          "file out of the task folder")
-    out = run_sweep(a.kind, taus, Ns, a.realisations, t_max=a.t_max, work_dir=work_dir,
-                    out=a.out, model=a.model, alpha=a.alpha, first_seed=a.first_seed,
+    out = run_sweep(a.kind, a.tau, a.N, a.realisations, t_max=a.t_end, work_dir=work_dir,
+                    out=a.out, model=a.model, alpha=a.alpha, first_seed=a.seed,
                     method=a.method, workers=a.workers, scheduler=a.scheduler,
                     progress=not a.json, **opts)
     what = "blew_up" if a.kind == "blowup" else "chaotic"
     summary = {"kind": a.kind, "out": out["out"], "work_dir": out["work_dir"],
                "tasks": out["n_tasks"], "computed": out["computed"], "skipped": out["skipped"],
-               "failed": len(out["failed"]), "t_max": a.t_max,
+               "failed": len(out["failed"]), "t_max": a.t_end,
                f"fraction_{what}": [{"tau": r["tau"], "N": r["N"], "n": r["n"],
                                      "fraction": r["fraction"]} for r in out["summary"]]}
     if out["failed"]:
-        summary["failures"] = [f"N={t.N} tau={t.tau:g} seed={t.seed}: {msg}"
-                               for t, msg in out["failed"]]
+        summary["failures"] = [f"N={f.task.N} tau={f.task.tau:g} seed={f.task.seed}: "
+                               f"{f.message}" for f in out["failed"]]
     _emit(summary, a.json)
     return 1 if out["failed"] else 0
 
@@ -380,7 +382,7 @@ def cmd_coefficients(a):
     from .lattice import Lattice
     _new_file(a, "out")
     rows = []
-    for tau in a.taus:
+    for tau in a.tau:
         if a.model == "homogeneous":
             if tau != 0:
                 raise ValueError("tau: the homogeneous model has no disorder")
@@ -415,9 +417,10 @@ def cmd_tauc(a):
     tau = None
     if a.fit_taus is not None:
         tau = np.asarray(a.fit_taus, dtype=float)
-    tc = critical_tolerance(a.N, a.alpha, a.R, seed0=a.first_seed, kind=a.disorder, tau=tau)
+    _positive(a, "realisations")
+    tc = critical_tolerance(a.N, a.alpha, a.realisations, seed0=a.seed, kind=a.disorder, tau=tau)
     s = tc.summary()
-    summary = {"N": a.N, "alpha": a.alpha, "disorder": a.disorder, "R": a.R,
+    summary = {"N": a.N, "alpha": a.alpha, "disorder": a.disorder, "R": a.realisations,
                "tau_c_exact": s["exact"], "tau_c_fit": s["fit"],
                "tau_c_per_realisation": {k: s[k] for k in ("mean", "std", "q05", "median", "q95",
                                                            "without_root")},
@@ -463,19 +466,369 @@ def cmd_bifurcation(a):
     return 0
 
 
-def _overwrite_arg(p):
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace an existing --out file (otherwise refused)")
+# ---- the parsers: one function per subcommand, shared option groups as parent parsers ----------
+#
+# Defaults. A single-lattice form (simulate, chaos of one orbit) is exactly fputlab.Lattice():
+# the homogeneous chain, no disorder. The ensemble forms take the defaults of the Python
+# function they call: blowup sweeps blowup.blowup_sweep's, chaos ensembles
+# chaos.chaotic_fraction's, `sweep` ensemble.run_sweep's (and per kind blowup_sweep's or
+# chaotic_fraction's sizes, realisations and final time). One blow-up realisation needs
+# disorder: blowup_sweep's model, with --tau given. The values are read from the signatures
+# (python_defaults), so the two cannot drift apart; tests/python/test_cli_options.py checks it.
+
+MODELS = ["homogeneous", "hamiltonian", "nonlinear"]
+DISORDERS = ["gaussian", "truncated", "uniform"]
+#: the taus of `fputlab sweep --kind blowup` (blowup_sweep has no default taus)
+SWEEP_BLOWUP_TAUS = [0.0, 5.0, 10.0, 15.0, 20.0]
 
 
-def _checkpoint_args(p):
-    p.add_argument("--checkpoint", help="checkpoint file (with --out): resume from it if it exists")
-    p.add_argument("--checkpoint-every", type=float, default=600.0, metavar="SECONDS",
+def _signature_defaults(fn) -> dict:
+    return {n: p.default for n, p in inspect.signature(fn).parameters.items()
+            if p.default is not inspect.Parameter.empty}
+
+
+@functools.lru_cache(maxsize=None)
+def python_defaults() -> dict:
+    """{Python function name: {parameter: default}} of the functions the subcommands call."""
+    from .blowup import blowup_sweep, blowup_time
+    from .chaos import chaotic_fraction, lyapunov
+    from .ensemble import run_sweep
+    from .lattice import Lattice
+    return {"Lattice": _signature_defaults(Lattice.__init__),
+            "integrate": _signature_defaults(Lattice.integrate),
+            "lyapunov": _signature_defaults(lyapunov),
+            "blowup_time": _signature_defaults(blowup_time),
+            "blowup_sweep": _signature_defaults(blowup_sweep),
+            "chaotic_fraction": _signature_defaults(chaotic_fraction),
+            "run_sweep": _signature_defaults(run_sweep)}
+
+
+def _g(v) -> str:
+    """A default as --help shows it."""
+    if isinstance(v, (list, tuple)):
+        return " ".join(_g(x) for x in v)
+    if isinstance(v, float):
+        return f"{v:.0e}".replace("e+0", "e").replace("e+", "e") if abs(v) >= 1e4 and \
+            float(f"{v:.0e}") == v else f"{v:g}"
+    return str(v)
+
+
+class _Deprecated(argparse._StoreAction):
+    """An old spelling of an option: hidden from --help, still works, says what replaced it."""
+
+    def __init__(self, option_strings, dest, replacement="", **kw):
+        super().__init__(option_strings, dest, **kw)
+        self.replacement = replacement
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"fputlab: warning: {option_string} is deprecated; use {self.replacement}",
+              file=sys.stderr)
+        super().__call__(parser, namespace, values, option_string)
+
+
+def _alias(p, old: str, new: str, dest: str, **kw):
+    """`old` as a hidden deprecated spelling of `new` (same dest, type and nargs)."""
+    p.add_argument(old, dest=dest, action=_Deprecated, replacement=new, help=argparse.SUPPRESS,
+                   default=argparse.SUPPRESS, **kw)
+
+
+def _lattice_options(*, N: str, model: str, tau: str, several: tuple = (),
+                     seed: str = "disorder seed (default 1)") -> argparse.ArgumentParser:
+    """Parent parser: the lattice. N, model and tau are described by the subcommand (their
+    defaults depend on its form); several: those of "N", "tau" that take several values
+    (ensembles)."""
+    L = python_defaults()["Lattice"]
+    p = argparse.ArgumentParser(add_help=False)
+    g = p.add_argument_group("lattice")
+    g.add_argument("--N", type=int, nargs="+" if "N" in several else None, default=None, help=N)
+    g.add_argument("--alpha", type=float, default=L["alpha"], help="quadratic (cubic-potential) "
+                   f"coupling (default {_g(L['alpha'])})")
+    g.add_argument("--beta", type=float, default=L["beta"],
+                   help=f"quartic coupling (default {_g(L['beta'])})")
+    g.add_argument("--model", default=None, choices=MODELS, help=model)
+    # default None: whether --tau was given matters (the homogeneous model refuses it)
+    g.add_argument("--tau", type=float, nargs="+" if "tau" in several else None, default=None,
+                   help=tau)
+    g.add_argument("--seed", type=int, default=1, help=seed)
+    g.add_argument("--disorder", default=L["disorder"], choices=DISORDERS,
+                   help=f"distribution of the disorder draws (default {L['disorder']})")
+    return p
+
+
+def _integrator_options(*, method: str, dt: str) -> argparse.ArgumentParser:
+    """Parent parser: the integrator. rtol/atol default to None = the Python default (not
+    passed), so a sweep's task options, hence its work-directory key, stay as they were."""
+    I = python_defaults()["integrate"]
+    p = argparse.ArgumentParser(add_help=False)
+    g = p.add_argument_group("integrator")
+    g.add_argument("--method", default=None, help=method + "; see `fputlab methods`")
+    g.add_argument("--dt", type=float, default=None, help=dt)
+    g.add_argument("--rtol", type=float, default=None,
+                   help=f"relative tolerance of the adaptive methods (default {_g(I['rtol'])})")
+    g.add_argument("--atol", type=float, default=None,
+                   help=f"absolute tolerance of the adaptive methods (default {_g(I['atol'])})")
+    return p
+
+
+def _time_options(default: float, what: str = "final time") -> argparse.ArgumentParser:
+    """Parent parser: --t-end (the old spelling --t-max still works)."""
+    p = argparse.ArgumentParser(add_help=False)
+    p.add_argument("--t-end", dest="t_end", type=float, default=default, metavar="T",
+                   help=f"{what} (default {_g(default)})")
+    _alias(p, "--t-max", "--t-end", "t_end", type=float)
+    return p
+
+
+def _output_options(out: str, *, out_default=None, overwrite: bool = True):
+    """Parent parser: the output file, --overwrite and --json."""
+    p = argparse.ArgumentParser(add_help=False)
+    g = p.add_argument_group("output")
+    g.add_argument("--out", metavar="FILE", default=out_default, help=out)
+    if overwrite:
+        g.add_argument("--overwrite", action="store_true",
+                       help="replace an existing --out file (default: refuse)")
+    g.add_argument("--json", action="store_true",
+                   help="print the summary as JSON, strict: NaN/Inf as null (default: text)")
+    return p
+
+
+def _ensemble_options(realisations: str) -> argparse.ArgumentParser:
+    """Parent parser: realisations and where they run."""
+    p = argparse.ArgumentParser(add_help=False)
+    g = p.add_argument_group("ensemble")
+    g.add_argument("--realisations", type=int, default=None, help=realisations)
+    g.add_argument("--workers", type=int, default=None,
+                   help="local worker processes (default: all cores)")
+    g.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port "
+                   "(default: local processes)")
+    return p
+
+
+def _checkpoint_options() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(add_help=False)
+    g = p.add_argument_group("checkpoints (with --out)")
+    g.add_argument("--checkpoint", metavar="FILE", help="checkpoint file: resume from it if it "
+                   "exists (default: none, no restart possible)")
+    g.add_argument("--checkpoint-every", type=float, default=600.0, metavar="SECONDS",
                    help="write a checkpoint every SECONDS of wall time (default 600)")
-    p.add_argument("--checkpoint-steps", type=int, default=None, metavar="K",
-                   help="also write one every K integrator steps")
-    p.add_argument("--restart", action="store_true",
-                   help="ignore an existing checkpoint and start from t = 0")
+    g.add_argument("--checkpoint-steps", type=int, default=None, metavar="K",
+                   help="also write one every K integrator steps (default: only by time)")
+    g.add_argument("--restart", action="store_true",
+                   help="ignore an existing checkpoint and start from t = 0 (default: resume)")
+    return p
+
+
+def _sub(sub, name, help, parents=(), **kw):
+    return sub.add_parser(name, help=help, parents=list(parents),
+                          formatter_class=_DefaultsFormatter, **kw)
+
+
+def _parser_demo(sub, parents):
+    # its options are demo.main's own (`fputlab demo --help`)
+    sub.add_parser("demo", help="reproduce Fig. 1 (FPUT recurrence, N = 64) as a PNG",
+                   add_help=False)
+
+
+def _parser_simulate(sub, parents):
+    L, I = python_defaults()["Lattice"], python_defaults()["integrate"]
+    s = _sub(sub, "simulate", "integrate one lattice, sample mode energies",
+             description="Integrate one lattice. Without options it is fputlab.Lattice(): the "
+             "homogeneous chain, N = 64, alpha = 0.25, no disorder.",
+             parents=[_lattice_options(
+                 N=f"particles (default {L['N']})",
+                 model=f"lattice model (default {L['model']}, as fputlab.Lattice())",
+                 tau=f"variability in percent (default {_g(L['tau'])}: no disorder; give it with "
+                     "--model hamiltonian or nonlinear)"),
+                 _integrator_options(method=f"integrator (default {I['method']})",
+                                     dt="fixed step (default 0.01)"),
+                 _time_options(1e4),
+                 _output_options("HDF5 results file, written as the run goes (default: none, "
+                                 "in memory; see docs/hdf5.md)"),
+                 _checkpoint_options()])
+    s.add_argument("--sample-every", type=float, default=None,
+                   help="sample spacing (default t_end/1000, at least dt; on resume: the "
+                        "checkpoint's)")
+    s.add_argument("--states", action="store_true", help="also store the states (default: no)")
+    s.set_defaults(func=cmd_simulate, resolve=_resolve_simulate)
+
+
+def _parser_blowup(sub, parents):
+    B, L = python_defaults()["blowup_sweep"], python_defaults()["Lattice"]
+    s = _sub(sub, "blowup", "blow-up time of one realisation, or the probability over many",
+             description="One realisation (one --tau, one --N, --realisations 1) or a sweep "
+             "(several --tau or --N values, or --realisations > 1: fputlab.blowup.blowup_sweep "
+             "and its defaults). --tau is required: a blow-up needs disorder.",
+             parents=[_lattice_options(
+                 N=f"particles; several for a sweep (default {L['N']})",
+                 model=f"lattice model (default {B['model']}, as blowup_sweep)",
+                 tau="variability in percent; several for a sweep over tau (required: no "
+                     "default, as blowup_sweep's taus)", several=("N", "tau"),
+                 seed="disorder seed; a sweep uses SEED, SEED + 1, ... (default 1)"),
+                 _integrator_options(method=f"integrator (default {B['method']})",
+                                     dt="fixed step (default 0.01)"),
+                 _time_options(B["t_max"], "final time: no blow-up before it is blew_up false"),
+                 _ensemble_options(f"disorder realisations per tau (default 1; in a sweep "
+                                   f"{B['realisations']}, as blowup_sweep)"),
+                 _output_options("HDF5 file with the sweep (default: none)")])
+    _alias(s, "--taus", "--tau", "tau", type=float, nargs="+")
+    s.add_argument("--plot", metavar="FILE", help="PNG of the sweep: probability vs tau, "
+                   "blow-up times (default: none)")
+    s.set_defaults(func=cmd_blowup, resolve=_resolve_blowup)
+
+
+def _parser_chaos(sub, parents):
+    L, C = python_defaults()["Lattice"], python_defaults()["chaotic_fraction"]
+    Y = python_defaults()["lyapunov"]
+    s = _sub(sub, "chaos", "mLE and SALI of one orbit, or the chaotic fraction (Fig. 14)",
+             description="One orbit (fputlab.chaos.lyapunov; without options the lattice is "
+             "fputlab.Lattice(), the homogeneous chain) or, with --realisations > 1 or several "
+             "--N, the chaotic fraction (fputlab.chaos.chaotic_fraction and its defaults: "
+             f"model {C['model']}, tau {_g(C['tau'])}, N {_g(C['Ns'])}, "
+             f"{C['realisations']} realisations).",
+             parents=[_lattice_options(
+                 N=f"particles (default {L['N']}); several: the chaotic fraction over them "
+                   f"(default there {_g(C['Ns'])})", several=("N",),
+                 model=f"lattice model (default {L['model']} for one orbit, as "
+                       f"fputlab.Lattice(); {C['model']} for the fraction, as chaotic_fraction)",
+                 tau=f"variability in percent (default {_g(L['tau'])} for one orbit; "
+                     f"{_g(C['tau'])} for the fraction)",
+                 seed="disorder seed; the fraction uses SEED, SEED + 1, ... (default 1)"),
+                 _integrator_options(method=f"integrator (default {Y['method']} for one orbit; "
+                                     "srkn14a6 for the fraction)",
+                                     dt="fixed step (default 0.01; the fraction's srkn14a6: 0.5)"),
+                 _time_options(C["t_end"]),
+                 _ensemble_options(f"disorder realisations per N (default 1; > 1: the chaotic "
+                                   f"fraction, default there {C['realisations']})"),
+                 _output_options("HDF5 file (default: none; one orbit: written as the run "
+                                 "goes, with checkpoints)"),
+                 _checkpoint_options()])
+    _alias(s, "--Ns", "--N", "N", type=int, nargs="+")
+    s.add_argument("--samples", type=int, default=Y["n_samples"],
+                   help=f"log-spaced samples of mLE(t), SALI(t), GALI(t) (default "
+                        f"{Y['n_samples']})")
+    s.add_argument("--stop-when-chaotic", action="store_true",
+                   help="stop once SALI falls below its threshold (default: no for one orbit, "
+                        "yes for the fraction)")
+    s.set_defaults(func=cmd_chaos, resolve=_resolve_chaos)
+
+
+def _parser_sweep(sub, parents):
+    R, B = python_defaults()["run_sweep"], python_defaults()["blowup_sweep"]
+    C = python_defaults()["chaotic_fraction"]
+    s = _sub(sub, "sweep", "realisation x tau x N ensemble (blow-up or chaos) on a local pool "
+             "or a Dask cluster; resumable, merged into one HDF5 file",
+             description="Each (tau, N, seed) is an independent task whose result is written to "
+             "its own HDF5 file in --work-dir; rerunning skips finished tasks. All results are "
+             "merged into --out (one row per task). Defaults: fputlab.ensemble.run_sweep's, and "
+             "per kind blowup_sweep's or chaotic_fraction's.",
+             parents=[_lattice_options(
+                 N=f"lattice sizes (default: {_g(B['Ns'])} for blowup, {_g(C['Ns'])} for chaos)",
+                 model=f"lattice model (default {R['model']})",
+                 tau=f"variabilities in percent (default: {_g(SWEEP_BLOWUP_TAUS)} for blowup, "
+                     f"{_g(C['tau'])} for chaos)", several=("N", "tau"),
+                 seed=f"seed of the first realisation: seeds SEED .. SEED + R - 1 (default "
+                      f"{R['first_seed']})"),
+                 _integrator_options(method="integrator (default yoshida4 for blowup, "
+                                     "srkn14a6 for chaos)",
+                                     dt="fixed step (default 0.01; chaos's srkn14a6: 0.5)"),
+                 _time_options(B["t_max"], "final time of every task"),
+                 _ensemble_options(f"disorder realisations per (tau, N) (default "
+                                   f"{B['realisations']} for blowup, {C['realisations']} for "
+                                   "chaos)"),
+                 _output_options("merged HDF5 file (default sweep.h5)", out_default="sweep.h5",
+                                 overwrite=False)])
+    s.add_argument("--kind", default="blowup", choices=["blowup", "chaos"],
+                   help="blowup: blow-up time up to --t-end; chaos: mLE/SALI up to --t-end "
+                        "(default blowup)")
+    _alias(s, "--taus", "--tau", "tau", type=float, nargs="+")
+    _alias(s, "--Ns", "--N", "N", type=int, nargs="+")
+    _alias(s, "--first-seed", "--seed", "seed", type=int)
+    s.add_argument("--samples", type=int, default=None,
+                   help="chaos: log-spaced samples of mLE(t), SALI(t) (default 200)")
+    s.add_argument("--work-dir", default=None,
+                   help="per-task result files (default OUT.tasks/); reused to resume")
+    s.set_defaults(func=cmd_sweep, resolve=_resolve_sweep)
+
+
+def _parser_coefficients(sub, parents):
+    s = _sub(sub, "coefficients", "two-mode coefficients a_i, b_i (raw) and A_i, B_i, A~, B~ "
+             "(paper-normalised) of one realisation or over several tau",
+             parents=[_output_options("HDF5 file to write (default: none)")])
+    s.add_argument("--N", type=int, default=64, help="particles (default 64)")
+    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
+    s.add_argument("--model", default="nonlinear", choices=MODELS,
+                   help="lattice model (default nonlinear)")
+    s.add_argument("--tau", type=float, nargs="+", default=[0.0],
+                   help="variability in percent; several: the same seed, hence the same draws z "
+                        "(default 0)")
+    _alias(s, "--taus", "--tau", "tau", type=float, nargs="+")
+    s.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
+    s.add_argument("--disorder", default="gaussian", choices=DISORDERS,
+                   help="distribution of the disorder draws (default gaussian)")
+    s.set_defaults(func=cmd_coefficients)
+
+
+def _parser_tauc(sub, parents):
+    s = _sub(sub, "tauc", "critical variability tau_c (B~ = 0) three ways: exact expectation, "
+             "quadratic fit (the paper's), per realisation",
+             parents=[_output_options("HDF5 file with the summary (default: none)")])
+    s.add_argument("--N", type=int, default=64, help="particles (default 64)")
+    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
+    s.add_argument("--realisations", type=int, default=100,
+                   help="realisations (default 100, as the paper)")
+    _alias(s, "--R", "--realisations", "realisations", type=int)
+    s.add_argument("--seed", type=int, default=1,
+                   help="seed of the first realisation: seeds SEED .. SEED + R - 1 (default 1)")
+    _alias(s, "--first-seed", "--seed", "seed", type=int)
+    s.add_argument("--disorder", default="gaussian", choices=DISORDERS,
+                   help="distribution of the disorder draws (default gaussian)")
+    s.add_argument("--fit-taus", type=float, nargs="+", default=None,
+                   help="tau grid of the fit (default 0, 0.5, ..., 20)")
+    s.set_defaults(func=cmd_tauc)
+
+
+def _parser_bifurcation(sub, parents):
+    s = _sub(sub, "bifurcation", "reduced (P, Delta, theta) system at (A~, B~): C, equilibria "
+             "Delta_1, Delta_2, theta, eigenvalues and their type",
+             parents=[_output_options("HDF5 file with the summary (default: none)")])
+    s.add_argument("--A-tilde", dest="A_tilde", type=float, default=3.62805,
+                   help="A~ (default 3.62805, tau = 0)")
+    s.add_argument("--B-tilde", dest="B_tilde", type=float, default=0.90728,
+                   help="B~ (default 0.90728, tau = 0)")
+    s.add_argument("--N", type=int, default=64,
+                   help="particles: r_1^2 = (N+1)/8 of the paper's initial state (default 64)")
+    s.add_argument("--plot", metavar="FILE",
+                   help="PNG of the (A~, B~) bifurcation diagram, Fig. 7 (default: none)")
+    s.set_defaults(func=cmd_bifurcation)
+
+
+def _parser_figures(sub, parents):
+    s = _sub(sub, "figures", "regenerate the paper's figures as PNGs")
+    s.add_argument("--out-dir", default="figures", metavar="DIR",
+                   help="output directory (default figures/)")
+    _alias(s, "--out", "--out-dir", "out_dir", metavar="DIR")
+    s.add_argument("--full", action="store_true",
+                   help="the paper's settings, t = 1e8: very long (default: quick settings)")
+    s.add_argument("--only", type=int, nargs="+", help="figure numbers to make (default: all)")
+    s.add_argument("--work-dir", help="chaos study of Figs. 12-14: one state file per orbit, "
+                   "resumed by the next call (default OUT_DIR/chaos_study)")
+    s.add_argument("--t-end", type=float, metavar="T", help="how far the chaos study goes in this call "
+                   "(default 1e5, with --full 1e8); rerun with a larger value to continue")
+    s.add_argument("--workers", type=int, help="local processes for the chaos study "
+                   "(default: all cores)")
+    s.add_argument("--scheduler", help="Dask scheduler address tcp://host:port for the chaos "
+                   "study, the work directory must be shared (default: local processes)")
+    s.set_defaults(func=cmd_figures)
+
+
+def _parser_methods(sub, parents):
+    s = _sub(sub, "methods", "list the integrators")
+    s.set_defaults(func=cmd_methods)
+
+
+SUBCOMMANDS = (_parser_demo, _parser_simulate, _parser_blowup, _parser_chaos, _parser_sweep,
+               _parser_coefficients, _parser_tauc, _parser_bifurcation, _parser_figures,
+               _parser_methods)
 
 
 def build_parser():
@@ -483,166 +836,8 @@ def build_parser():
                                 "(paper: Energy-recurrence breakdown and chaos in disordered FPUT lattices).")
     p.add_argument("--version", action="store_true", help="print the version and exit")
     sub = p.add_subparsers(dest="command")
-
-    s = sub.add_parser("demo", help="reproduce Fig. 1 (FPUT recurrence, N = 64) as a PNG", add_help=False)
-    s = sub.add_parser("simulate", help="integrate one lattice, sample mode energies")
-    _lattice_args(s)
-    _method_args(s)
-    s.add_argument("--t-end", "--t-max", dest="t_end", type=float, default=1e4, help="final time")
-    s.add_argument("--sample-every", type=float, default=None,
-                   help="sample spacing (default t_end/1000, at least dt; on resume: the "
-                        "checkpoint's)")
-    s.add_argument("--states", action="store_true", help="also store the states")
-    s.add_argument("--out", help="HDF5 results file, written as the run goes (see docs/hdf5.md)")
-    _overwrite_arg(s)
-    _checkpoint_args(s)
-    s.add_argument("--json", action="store_true",
-                   help="print the summary as JSON (strict: NaN/Inf as null)")
-    s.set_defaults(func=cmd_simulate)
-
-    s = sub.add_parser("blowup", help="blow-up time of one realisation, or the probability over many")
-    _lattice_args(s, tau=20.0)
-    _method_args(s)
-    s.add_argument("--t-max", "--t-end", dest="t_max", type=float, default=1e4,
-                   help="final time (no blow-up before it: blew_up false)")
-    s.add_argument("--taus", type=float, nargs="+", default=None, help="sweep these tau values")
-    s.add_argument("--realisations", type=int, default=1,
-                   help="disorder realisations (seeds --seed, --seed + 1, ...)")
-    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
-    s.add_argument("--out", help="HDF5 file with the sweep (with --taus or --realisations)")
-    _overwrite_arg(s)
-    s.add_argument("--plot", help="PNG of the sweep: probability vs tau, blow-up times")
-    s.add_argument("--json", action="store_true",
-                   help="print the summary as JSON (strict: NaN/Inf as null)")
-    s.set_defaults(func=cmd_blowup)
-
-    s = sub.add_parser("chaos", help="mLE and SALI of one orbit, or the chaotic fraction (Fig. 14)")
-    _lattice_args(s)
-    _method_args(s, method=None)
-    s.add_argument("--t-end", "--t-max", dest="t_end", type=float, default=1e4, help="final time")
-    s.add_argument("--samples", type=int, default=200,
-                   help="log-spaced samples of mLE(t), SALI(t), GALI(t)")
-    s.add_argument("--stop-when-chaotic", action="store_true",
-                   help="stop once SALI falls below its threshold")
-    s.add_argument("--realisations", type=int, default=1,
-                   help="disorder realisations per N (> 1: the chaotic fraction over --Ns)")
-    s.add_argument("--Ns", type=int, nargs="+", default=[4, 8, 16, 32, 64],
-                   help="lattice sizes of the chaotic fraction")
-    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
-    s.add_argument("--out", help="HDF5 file (one orbit: written as the run goes, with checkpoints)")
-    _overwrite_arg(s)
-    _checkpoint_args(s)
-    s.add_argument("--json", action="store_true",
-                   help="print the summary as JSON (strict: NaN/Inf as null)")
-    s.set_defaults(func=cmd_chaos)
-
-    s = sub.add_parser("sweep", help="realisation x tau x N ensemble (blow-up or chaos) on a local "
-                       "pool or a Dask cluster; resumable, merged into one HDF5 file",
-                       description="Each (tau, N, seed) is an independent task whose result is "
-                       "written to its own HDF5 file in --work-dir; rerunning skips finished "
-                       "tasks. All results are merged into --out (one row per task).")
-    s.add_argument("--kind", default="blowup", choices=["blowup", "chaos"],
-                   help="blowup: blow-up time up to --t-max; chaos: mLE/SALI up to --t-end "
-                        "(default blowup)")
-    s.add_argument("--taus", type=float, nargs="+", default=argparse.SUPPRESS,
-                   help="variabilities in percent (default: 0 5 10 15 20 for blowup, 10 for chaos)")
-    s.add_argument("--Ns", type=int, nargs="+", default=argparse.SUPPRESS,
-                   help="lattice sizes (default: 64 for blowup, 4 8 16 32 64 for chaos)")
-    s.add_argument("--realisations", type=int, default=30,
-                   help="disorder realisations per (tau, N) (default 30, as Fig. 14)")
-    s.add_argument("--first-seed", type=int, default=1, help="seeds first..first+R-1 (default 1)")
-    s.add_argument("--t-max", "--t-end", dest="t_max", type=float, default=1e4,
-                   help="final time of every task (default 1e4)")
-    s.add_argument("--model", default="nonlinear", choices=["homogeneous", "hamiltonian", "nonlinear"],
-                   help="lattice model (default nonlinear)")
-    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
-    s.add_argument("--method", default=None, help="integrator (default yoshida4)")
-    s.add_argument("--dt", type=float, default=None, help="fixed step (default 0.01)")
-    s.add_argument("--rtol", type=float, default=None,
-                   help="relative tolerance, adaptive methods (default 1e-10)")
-    s.add_argument("--atol", type=float, default=None,
-                   help="absolute tolerance, adaptive methods (default 1e-12)")
-    s.add_argument("--samples", type=int, default=None,
-                   help="chaos: log-spaced samples of mLE(t), SALI(t) (default 200)")
-    s.add_argument("--out", default="sweep.h5", help="merged HDF5 file (default sweep.h5)")
-    s.add_argument("--work-dir", default=None,
-                   help="per-task result files (default OUT.tasks/); reused to resume")
-    s.add_argument("--scheduler", default=None,
-                   help="Dask scheduler address tcp://host:port (default: local processes)")
-    s.add_argument("--workers", type=int, default=None, help="local processes (default all cores)")
-    s.add_argument("--json", action="store_true",
-                   help="print the summary as JSON (strict: NaN/Inf as null)")
-    s.set_defaults(func=cmd_sweep)
-
-    s = sub.add_parser("coefficients", help="two-mode coefficients a_i, b_i (raw) and A_i, B_i, "
-                       "A~, B~ (paper-normalised) of one realisation or over --taus")
-    s.add_argument("--N", type=int, default=64, help="particles (default 64)")
-    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
-    s.add_argument("--model", default="nonlinear", choices=["homogeneous", "hamiltonian", "nonlinear"],
-                   help="lattice model (default nonlinear)")
-    s.add_argument("--tau", type=float, default=0.0, help="variability in percent (default 0)")
-    s.add_argument("--taus", type=float, nargs="+", default=None,
-                   help="several variabilities (same seed, hence the same draws z)")
-    s.add_argument("--seed", type=int, default=1, help="disorder seed (default 1)")
-    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
-                   help="distribution of the disorder draws")
-    s.add_argument("--out", help="HDF5 file to write")
-    _overwrite_arg(s)
-    s.add_argument("--json", action="store_true",
-                   help="print the summary as JSON (strict: NaN/Inf as null)")
-    s.set_defaults(func=cmd_coefficients)
-
-    s = sub.add_parser("tauc", help="critical variability tau_c (B~ = 0) three ways: exact "
-                       "expectation, quadratic fit (the paper's), per realisation")
-    s.add_argument("--N", type=int, default=64, help="particles (default 64)")
-    s.add_argument("--alpha", type=float, default=0.25, help="quadratic coupling (default 0.25)")
-    s.add_argument("--R", "--realisations", dest="R", type=int, default=100,
-                   help="realisations (default 100, as the paper)")
-    s.add_argument("--first-seed", type=int, default=1, help="seeds first..first+R-1 (default 1)")
-    s.add_argument("--disorder", default="gaussian", choices=["gaussian", "truncated", "uniform"],
-                   help="distribution of the disorder draws")
-    s.add_argument("--fit-taus", type=float, nargs="+", default=None,
-                   help="tau grid of the fit (default 0, 0.5, ..., 20)")
-    s.add_argument("--json", action="store_true",
-                   help="print the summary as JSON (strict: NaN/Inf as null)")
-    s.add_argument("--out", help="HDF5 file with the summary")
-    _overwrite_arg(s)
-    s.set_defaults(func=cmd_tauc)
-
-    s = sub.add_parser("bifurcation", help="reduced (P, Delta, theta) system at (A~, B~): C, "
-                       "equilibria Delta_1, Delta_2, theta, eigenvalues and their type")
-    s.add_argument("--A-tilde", dest="A_tilde", type=float, default=3.62805,
-                   help="A~ (default 3.62805, tau = 0)")
-    s.add_argument("--B-tilde", dest="B_tilde", type=float, default=0.90728,
-                   help="B~ (default 0.90728, tau = 0)")
-    s.add_argument("--N", type=int, default=64,
-                   help="particles: r_1^2 = (N+1)/8 of the paper's initial state (default 64)")
-    s.add_argument("--plot", help="PNG of the (A~, B~) bifurcation diagram (Fig. 7)")
-    s.add_argument("--json", action="store_true",
-                   help="print the summary as JSON (strict: NaN/Inf as null)")
-    s.add_argument("--out", help="HDF5 file with the summary")
-    _overwrite_arg(s)
-    s.set_defaults(func=cmd_bifurcation)
-
-    s = sub.add_parser("figures", help="regenerate the paper's figures as PNGs")
-    s.add_argument("--out", default="figures", help="output directory (default figures/)")
-    s.add_argument("--full", action="store_true", help="the paper's settings (t = 1e8: very long)")
-    s.add_argument("--only", type=int, nargs="+", help="figure numbers to make")
-    s.add_argument("--work-dir", help="chaos study of Figs. 12-14: one state file per orbit, "
-                   "resumed by the next call (default OUT/chaos_study)")
-    s.add_argument("--t-end", type=float, help="how far the chaos study goes in this call "
-                   "(default 1e5, with --full 1e8); rerun with a larger value to continue")
-    s.add_argument("--workers", type=int, help="local processes for the chaos study "
-                   "(default: all cores)")
-    s.add_argument("--scheduler", help="Dask scheduler address tcp://host:port for the chaos "
-                   "study (the work directory must be shared)")
-    s.set_defaults(func=cmd_figures)
-
-    s = sub.add_parser("methods", help="list the integrators")
-    s.set_defaults(func=cmd_methods)
-    for s in sub.choices.values():
-        if s.formatter_class is argparse.HelpFormatter:
-            s.formatter_class = _DefaultsFormatter
+    for make in SUBCOMMANDS:
+        make(sub, None)
     return p
 
 
@@ -652,14 +847,103 @@ class _DefaultsFormatter(argparse.HelpFormatter):
     def _get_help_string(self, action):
         text = action.help or ""
         default = action.default
-        if ("default" in text or not action.option_strings or default is None
-                or default is False or default is argparse.SUPPRESS):
+        if "default" in text or not action.option_strings or default is argparse.SUPPRESS:
             return text
-        if isinstance(default, (list, tuple)):
+        if default is None:
+            default = "none"
+        elif default is False:
+            default = "off"
+        elif isinstance(default, (list, tuple)):
             default = " ".join(map(str, default))
         elif isinstance(default, float):
             default = f"{default:g}"
         return f"{text} (default {str(default).replace('%', '%%')})".strip()
+
+
+# ---- resolving the form-dependent defaults -----------------------------------------------------
+
+def _fill(a, **defaults):
+    """Set every attribute of a that is None to its default."""
+    for k, v in defaults.items():
+        if getattr(a, k, None) is None:
+            setattr(a, k, v)
+
+
+def _finite_positive(a, name: str):
+    value = getattr(a, name)
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"--{name.replace('_', '-')} must be finite and > 0 (got {value:g})")
+
+
+def _one(a, name: str, why: str):
+    """A list option of a single-lattice form as its one value."""
+    values = getattr(a, name)
+    if isinstance(values, list):
+        if len(values) != 1:
+            raise ValueError(f"--{name}: {why}")
+        setattr(a, name, values[0])
+
+
+def _resolve_single_lattice(a):
+    L = python_defaults()["Lattice"]
+    a.tau_given = a.tau is not None
+    _fill(a, N=L["N"], model=L["model"], tau=L["tau"])
+
+
+def _resolve_simulate(a):
+    _resolve_single_lattice(a)
+    _fill(a, method=python_defaults()["integrate"]["method"])
+    _finite_positive(a, "t_end")
+
+
+def _resolve_blowup(a):
+    B = python_defaults()["blowup_sweep"]
+    a.tau_given = a.tau is not None
+    if a.tau is None:
+        raise ValueError("--tau is required: the variability in percent of the realisation "
+                         "(e.g. --tau 20), several for a sweep (e.g. --tau 0 5 10 15 20)")
+    _fill(a, N=[python_defaults()["Lattice"]["N"]], model=B["model"], method=B["method"])
+    a.sweep = len(a.tau) > 1 or len(a.N) > 1 or (a.realisations or 1) > 1
+    _fill(a, realisations=B["realisations"] if a.sweep else 1)
+    if not a.sweep:
+        _one(a, "tau", "one realisation has one value")
+        _one(a, "N", "one realisation has one value")
+    _finite_positive(a, "t_end")
+
+
+def _resolve_chaos(a):
+    C = python_defaults()["chaotic_fraction"]
+    a.fraction = (a.realisations or 1) > 1 or (a.N is not None and len(a.N) > 1)
+    if a.fraction:
+        a.tau_given = a.tau is not None
+        _fill(a, N=list(C["Ns"]), model=C["model"], realisations=C["realisations"])
+        _fill(a, tau=0.0 if a.model == "homogeneous" else C["tau"])
+        # method None: chaotic_fraction's ensemble default (srkn14a6 at dt = 0.5)
+    else:
+        _one(a, "N", "one orbit has one value (several: the chaotic fraction)")
+        _resolve_single_lattice(a)
+        _fill(a, realisations=1, method=python_defaults()["lyapunov"]["method"])
+    _finite_positive(a, "t_end")
+
+
+def _resolve_sweep(a):
+    B, C = python_defaults()["blowup_sweep"], python_defaults()["chaotic_fraction"]
+    R = python_defaults()["run_sweep"]
+    if a.kind == "blowup":
+        _fill(a, tau=list(SWEEP_BLOWUP_TAUS), N=list(B["Ns"]), realisations=B["realisations"])
+    else:
+        _fill(a, tau=[C["tau"]], N=list(C["Ns"]), realisations=C["realisations"])
+    _fill(a, model=R["model"])
+    a.tau_given = True
+    _finite_positive(a, "t_end")
+
+
+def parse_args(argv):
+    """The arguments of a command line with every default resolved (as the subcommand runs)."""
+    a = build_parser().parse_args(argv)
+    if getattr(a, "resolve", None):
+        a.resolve(a)
+    return a
 
 
 def _run(argv) -> int:
@@ -675,12 +959,8 @@ def _run(argv) -> int:
     if not getattr(a, "func", None):
         parser.print_help()
         return 2
-    if hasattr(a, "tau_default"):
-        a.tau_given = a.tau is not None
-        if a.tau is None:
-            a.tau = a.tau_default
-    if getattr(a, "taus", "absent") is None:
-        a.taus = [a.tau]
+    if getattr(a, "resolve", None):
+        a.resolve(a)
     return a.func(a)
 
 

@@ -36,11 +36,14 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="fputlab demo", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", default="fig1.png", help="PNG to write (default fig1.png)")
-    parser.add_argument("--N", type=int, default=64)
-    parser.add_argument("--alpha", type=float, default=0.25)
-    parser.add_argument("--t-end", type=float, default=8e4)
-    parser.add_argument("--dt", type=float, default=0.01)
-    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
+    parser.add_argument("--N", type=int, default=64, help="particles (default 64)")
+    parser.add_argument("--alpha", type=float, default=0.25,
+                        help="quadratic coupling (default 0.25)")
+    parser.add_argument("--t-end", type=float, default=8e4, help="final time (default 8e4)")
+    parser.add_argument("--dt", type=float, default=0.01,
+                        help="step of Yoshida 4 (default 0.01)")
+    parser.add_argument("--json", action="store_true",
+                        help="print the summary as JSON (default: text)")
     args = parser.parse_args(argv)
 
     import matplotlib

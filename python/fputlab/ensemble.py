@@ -27,7 +27,7 @@ import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -59,6 +59,8 @@ class Task:
     seed: int
 
     def stem(self, key: str) -> str:
+        """File name stem of the task's result file in a sweep with key `key`
+        (`SweepSpec.key`)."""
         return f"{self.kind}_N{self.N}_tau{self.tau!r}_seed{self.seed}_{key}"
 
 
@@ -88,6 +90,20 @@ def _jsonable(x):
     return repr(x)
 
 
+class Failure(NamedTuple):
+    """A task that raised (`run_sweep`'s ``failed``): the task and "<exception type>: <message>"."""
+    task: Task
+    message: str
+
+
+class TaskOutcome(NamedTuple):
+    """What a worker returns for one task of a group (`run_chaos_group`): exactly one of
+    `record` and `message` is None."""
+    task: Task
+    record: dict | None
+    message: str | None
+
+
 # ---- one task (runs in a worker process) ------------------------------------------------------
 
 class TaskFailed(RuntimeError):
@@ -96,7 +112,26 @@ class TaskFailed(RuntimeError):
 
 
 def run_task(task: Task, spec: SweepSpec) -> dict:
-    """Compute one task (see `_compute`); any exception becomes a TaskFailed."""
+    """Compute one task in the calling process.
+
+    Parameters
+    ----------
+    task : Task
+        The realisation (kind, N, tau, seed).
+    spec : SweepSpec
+        What every task of the sweep shares (model, alpha, t_max, method, options).
+
+    Returns
+    -------
+    dict
+        The task's record: ``kind``, ``N``, ``tau``, ``seed``, the outcome columns of its kind
+        (`COLUMNS`) and, for chaos, the series (`SERIES`).
+
+    Raises
+    ------
+    TaskFailed
+        Whatever the computation raised, as "<exception type>: <message>" (picklable).
+    """
     try:
         return _compute(task, spec)
     except Exception as err:
@@ -123,9 +158,9 @@ def _compute(task: Task, spec: SweepSpec) -> dict:
                    t_reached=float(res.t_reached), tau_c=float(tau_c))
     elif task.kind == "chaos":
         from .chaos import _one_realisation
-        _, _, res = _one_realisation((task.N, task.tau, task.seed, spec.model, spec.alpha,
-                                      spec.t_max, spec.method, opts))
-        rec.update(_chaos_outcome(res))
+        orbit = _one_realisation((task.N, task.tau, task.seed, spec.model, spec.alpha,
+                                  spec.t_max, spec.method, opts))
+        rec.update(_chaos_outcome(orbit.result))
     else:
         raise ValueError(f"kind {task.kind!r} is unknown (known: {', '.join(KINDS)})")
     return rec
@@ -144,17 +179,32 @@ def _chaos_outcome(res) -> dict:
 
 def run_chaos_group(tasks: list, spec: SweepSpec) -> list:
     """Several chaos tasks of one (tau, N) in the batched kernel's vector lanes
-    (fputlab.chaos_batch): the records `run_task` gives for each, at a fraction of the cost for
-    small N. Returns [(task, record or None, message or None)]."""
+    (`fputlab.chaos_batch`): the records `run_task` gives for each, at a fraction of the cost
+    for small N.
+
+    Parameters
+    ----------
+    tasks : list of Task
+        Chaos tasks sharing tau and N.
+    spec : SweepSpec
+        The sweep's shared parameters (a batchable method and options).
+
+    Returns
+    -------
+    list of TaskOutcome
+        One per task, in the order given: the record, or the message of the failure (a
+        failure of the batch fails every task in it).
+    """
     from .chaos import _batch_of_realisations
     t0 = tasks[0]
     try:
         out = _batch_of_realisations((t0.N, t0.tau, [t.seed for t in tasks], spec.model,
                                       spec.alpha, spec.t_max, spec.method, dict(spec.options)))
     except Exception as err:
-        return [(t, None, f"{type(err).__name__}: {err}") for t in tasks]
-    return [(t, {"kind": t.kind, "N": t.N, "tau": t.tau, "seed": t.seed, **_chaos_outcome(res)},
-             None) for t, (_, _, res) in zip(tasks, out)]
+        return [TaskOutcome(t, None, f"{type(err).__name__}: {err}") for t in tasks]
+    return [TaskOutcome(t, {"kind": t.kind, "N": t.N, "tau": t.tau, "seed": t.seed,
+                            **_chaos_outcome(orbit.result)}, None)
+            for t, orbit in zip(tasks, out)]
 
 
 def _batchable(spec: SweepSpec) -> bool:
@@ -174,9 +224,9 @@ def _run_groups(todo, spec, workers, scheduler):
     for (group, _), outs, err in run_calls(run_chaos_group, calls, workers=workers,
                                            scheduler=scheduler):
         if err is not None:
-            outs = [(t, None, f"{type(err).__name__}: {err}") for t in group]
-        for task, rec, msg in outs:
-            yield task, rec, (TaskFailed(msg) if msg else None)
+            outs = [TaskOutcome(t, None, f"{type(err).__name__}: {err}") for t in group]
+        for o in outs:
+            yield o.task, o.record, (TaskFailed(o.message) if o.message else None)
 
 
 # ---- per-task files ---------------------------------------------------------------------------
@@ -321,17 +371,66 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
               method: str | None = None, workers: int | None = None, scheduler=None,
               progress: bool = True, **task_options) -> dict:
     """Run every (tau, N, seed) task of a sweep that has no result in `work_dir` yet, then merge
-    all results into the HDF5 file `out` (one row per task, in the order tau, N, seed).
+    all results into one HDF5 file (one row per task, in the order tau, N, seed).
 
-    kind: "blowup" (fputlab.blowup.blowup_time up to t_max) or "chaos" (fputlab.chaos.lyapunov
-    up to t_end = t_max). method: integrator (default "yoshida4"). workers: local processes
-    (default all cores). scheduler: a Dask scheduler address "tcp://host:port", a
-    dask.distributed.Client or a cluster object; then Dask runs the tasks instead of the local
-    pool. task_options go to blowup_time / lyapunov (e.g. dt, rtol, n_samples).
+    Each task is one disorder realisation ``Lattice(N, alpha, model, tau=tau, seed=seed)``; its
+    result is written to its own file in `work_dir` as it arrives, so running the same sweep
+    again computes only what is missing (a task that raised is retried).
 
-    Returns {"out", "work_dir", "n_tasks", "computed", "skipped", "failed" [(task, message)],
-    "records" [dict per task], "summary" [{"tau", "N", "n", "fraction"}]} where fraction is the
-    share that blew up (blowup) or was classified chaotic (chaos)."""
+    Parameters
+    ----------
+    kind : {"blowup", "chaos"}
+        "blowup": `fputlab.blowup.blowup_time` up to `t_max`; "chaos":
+        `fputlab.chaos.lyapunov` up to ``t_end = t_max``.
+    taus : sequence of float
+        Variabilities in percent.
+    Ns : sequence of int
+        Lattice sizes.
+    realisations : int
+        Realisations per (tau, N), seeds ``first_seed .. first_seed + realisations - 1``.
+    t_max : float
+        Final time of every task.
+    work_dir : str or path
+        Folder of the per-task result files (created; reused to resume).
+    out : str or path
+        The merged HDF5 file (layout: docs/hdf5.md).
+    model : str, optional
+        Lattice model (default "nonlinear", the paper's model 3).
+    alpha : float, optional
+        Cubic coupling.
+    first_seed : int, optional
+        Disorder seed of the first realisation.
+    method : str, optional
+        Integrator (default "yoshida4" for blowup; for chaos the ensemble default
+        `fputlab.chaos.ENSEMBLE_METHOD` at `fputlab.chaos.ENSEMBLE_DT`).
+    workers : int, optional
+        Local worker processes (default: all cores).
+    scheduler : str, dask.distributed.Client or cluster, optional
+        Run the tasks on Dask instead of the local pool.
+    progress : bool, optional
+        A progress bar over the tasks (tqdm.auto).
+    **task_options
+        Passed to `blowup_time` / `lyapunov` (e.g. dt, rtol, n_samples).
+
+    Returns
+    -------
+    dict
+        ``out``, ``work_dir``, ``n_tasks``, ``computed``, ``skipped``, ``failed`` (a list of
+        `Failure`: task and message), ``records`` (one dict per finished task) and ``summary``
+        ([{"tau", "N", "n", "fraction"}], fraction: the share that blew up, or was classified
+        chaotic).
+
+    Raises
+    ------
+    ValueError
+        An invalid argument (the message names it), or a task option the kind does not take.
+
+    Examples
+    --------
+    >>> out = run_sweep("blowup", [10, 20], [64], 50, t_max=1e4,
+    ...                 work_dir="sweep.d", out="sweep.h5")        # doctest: +SKIP
+    >>> out["summary"]                                             # doctest: +SKIP
+    """
     taus, Ns, realisations, spec = _validate(kind, taus, Ns, realisations, t_max, model, alpha,
                                              first_seed, method, workers, task_options)
     if work_dir is None or out is None:
@@ -350,7 +449,7 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
             records[t] = rec
     skipped = len(records)
     todo = [t for t in tasks if t not in records]
-    failed: list[tuple[Task, str]] = []
+    failed: list[Failure] = []
     if todo:
         from tqdm.auto import tqdm
         bar = tqdm(total=len(todo), desc=f"{kind} sweep", unit="task",
@@ -362,8 +461,8 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
         try:
             for task, rec, err in engine:
                 if err is not None:
-                    failed.append((task, str(err) if isinstance(err, TaskFailed)
-                                   else f"{type(err).__name__}: {err}"))
+                    failed.append(Failure(task, str(err) if isinstance(err, TaskFailed)
+                                          else f"{type(err).__name__}: {err}"))
                 else:
                     _write_task(work / f"{task.stem(key)}.h5", rec, spec, key)
                     records[task] = rec
@@ -372,7 +471,7 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
             bar.close()
             engine.close()                    # an interrupt stops the workers now
     order = {t: i for i, t in enumerate(tasks)}
-    failed.sort(key=lambda f: order[f[0]])
+    failed.sort(key=lambda f: order[f.task])
     done = [records[t] for t in tasks if t in records]
     params = {"kind": kind, "taus": np.array(taus), "Ns": np.array(Ns),
               "realisations": realisations, "t_max": spec.t_max, "model": model,
@@ -382,7 +481,7 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
     _write_merged(Path(out), kind, done, params)
     return {"out": str(out), "work_dir": str(work), "n_tasks": len(tasks),
             "computed": len(todo) - len(failed), "skipped": skipped,
-            "failed": [(t, msg) for t, msg in failed], "records": done,
+            "failed": failed, "records": done,
             "summary": _summary(kind, done, taus, Ns)}
 
 
@@ -430,9 +529,25 @@ def _write_merged(path: Path, kind: str, records: list[dict], params: dict) -> N
 
 
 def load_sweep(path) -> dict:
-    """A merged sweep file as {column: array} plus "attrs" (the sweep parameters and
-    fputlab_version). String columns come back as str arrays; the chaos series t, mle_t, sali_t
-    are (n_tasks, n_samples) arrays padded with NaN (row i has n_samples[i] values)."""
+    """Read a merged sweep file (written by `run_sweep`).
+
+    Parameters
+    ----------
+    path : str or path
+        The merged HDF5 file.
+
+    Returns
+    -------
+    dict
+        {column: array} (string columns as str arrays; the chaos series ``t``, ``mle_t``,
+        ``sali_t`` as (n_tasks, n_samples) arrays padded with NaN, row i has ``n_samples[i]``
+        values) plus ``attrs``: the sweep parameters and ``fputlab_version``.
+
+    Raises
+    ------
+    OSError
+        The file cannot be opened as HDF5.
+    """
     import h5py
     out: dict[str, Any] = {}
     with h5py.File(path, "r") as f:

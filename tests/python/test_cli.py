@@ -10,7 +10,8 @@ from fputlab.cli import main
 
 def test_simulate_writes_hdf5(tmp_path, capsys):
     out = tmp_path / "run.h5"
-    assert main(["simulate", "--N", "16", "--t-end", "50", "--out", str(out), "--json"]) == 0
+    assert main(["simulate", "--model", "nonlinear", "--tau", "10", "--N", "16", "--t-end", "50",
+                 "--out", str(out), "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["status"] == "completed" and summary["samples"] == 1001
     with h5py.File(out) as f:
@@ -25,7 +26,7 @@ def test_simulate_writes_hdf5(tmp_path, capsys):
 
 def test_simulate_checkpoint_and_resume(tmp_path, capsys):
     out, ck = str(tmp_path / "run.h5"), str(tmp_path / "run.ckpt")
-    args = ["simulate", "--N", "8", "--t-end", "200", "--sample-every", "1", "--out", out,
+    args = ["simulate", "--model", "nonlinear", "--tau", "10", "--N", "8", "--t-end", "200", "--sample-every", "1", "--out", out,
             "--checkpoint", ck, "--checkpoint-steps", "5000", "--json"]
     assert main(args) == 0
     first = json.loads(capsys.readouterr().out)
@@ -35,7 +36,8 @@ def test_simulate_checkpoint_and_resume(tmp_path, capsys):
     assert main(args) == 0                       # finished: resumes at the end, nothing to do
     again = json.loads(capsys.readouterr().out)
     assert again["resumed_from"] == 200.0 and again["samples"] == 201
-    assert main(["simulate", "--N", "8", "--seed", "2", "--t-end", "200", "--out", out,
+    assert main(["simulate", "--model", "nonlinear", "--tau", "10", "--N", "8", "--seed", "2",
+                 "--t-end", "200", "--out", out,
                  "--checkpoint", ck]) == 2
     assert "v differs" in capsys.readouterr().err
     assert main(["simulate", "--checkpoint", ck]) == 2
@@ -54,14 +56,14 @@ def test_chaos_out_writes_the_indicators(tmp_path, capsys):
 
 
 def test_ensembles_refuse_options_they_cannot_honour(capsys):
-    assert main(["blowup", "--taus", "10", "20", "--beta", "0.5"]) == 2
+    assert main(["blowup", "--tau", "10", "20", "--beta", "0.5"]) == 2
     assert "--beta" in capsys.readouterr().err
     assert main(["chaos", "--realisations", "3", "--disorder", "uniform"]) == 2
     assert "--disorder" in capsys.readouterr().err
 
 
 def test_blowup_and_chaos_json(capsys):
-    assert main(["blowup", "--json"]) == 0                 # tau = 20 %, N = 64, seed 1
+    assert main(["blowup", "--tau", "20", "--json"]) == 0     # model 3, N = 64, seed 1
     out = json.loads(capsys.readouterr().out)
     assert out["blew_up"] and 1000 < out["time"] < 1e4
     assert main(["chaos", "--N", "8", "--model", "homogeneous", "--t-end", "500", "--json"]) == 0
@@ -77,7 +79,7 @@ def test_bad_input_is_reported_not_raised(capsys):
 
 
 def test_figures_quick(tmp_path):
-    assert main(["figures", "--out", str(tmp_path), "--only", "2", "3", "7", "11"]) == 0
+    assert main(["figures", "--out-dir", str(tmp_path), "--only", "2", "3", "7", "11"]) == 0
     assert (tmp_path / "fig02_disorder_recurrence.png").stat().st_size > 10_000
     assert (tmp_path / "fig11_chaos_homogeneous.png").stat().st_size > 10_000
     assert (tmp_path / "fig03_blowup.png").stat().st_size > 10_000
@@ -103,7 +105,7 @@ def test_tauc_and_bifurcation_write_hdf5(tmp_path, capsys):
         eqs = json.loads(f.attrs["equilibria"])
         assert [round(e["delta"], 2) for e in eqs] == [5.09, 4.34]
     out = tmp_path / "t.h5"
-    assert main(["tauc", "--R", "20", "--out", str(out)]) == 0
+    assert main(["tauc", "--realisations", "20", "--out", str(out)]) == 0
     with h5py.File(out) as f:
         assert abs(f.attrs["tau_c_exact"] - 10.2578) < 1e-3      # closed-form expectation
 
@@ -112,7 +114,7 @@ def test_chaos_figures_from_a_resumable_study(tmp_path):
     # Figs. 12-14 continue the chaos study in the work directory; a second call with the same
     # horizon redraws from the stored orbits without advancing any of them
     work = tmp_path / "study"
-    args = ["figures", "--out", str(tmp_path), "--only", "12", "13", "14", "--t-end", "300",
+    args = ["figures", "--out-dir", str(tmp_path), "--only", "12", "13", "14", "--t-end", "300",
             "--work-dir", str(work), "--workers", "2"]
     assert main(args) == 0
     for name in ("fig12_chaos_N4_8_16.png", "fig13_chaos_N32_64.png",

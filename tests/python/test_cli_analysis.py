@@ -29,7 +29,7 @@ def test_coefficients_paper_values(capsys):
 
 def test_coefficients_over_taus_to_hdf5(tmp_path, capsys):
     path = tmp_path / "c.h5"
-    out = _json(capsys, ["coefficients", "--taus", "0", "5", "10", "--seed", "3", "--N", "32",
+    out = _json(capsys, ["coefficients", "--tau", "0", "5", "10", "--seed", "3", "--N", "32",
                          "--out", str(path)])
     assert [r["tau"] for r in out["rows"]] == [0.0, 5.0, 10.0]
     ref = two_mode_coefficients(fputlab.Lattice(32, 0.25, "nonlinear", tau=10.0, seed=3))
@@ -71,7 +71,7 @@ def test_bifurcation_plot(tmp_path, capsys):
 
 
 def test_sweep_cli_resumes(tmp_path, capsys):
-    argv = ["sweep", "--taus", "10", "--Ns", "8", "--realisations", "2", "--t-max", "200",
+    argv = ["sweep", "--tau", "10", "--N", "8", "--realisations", "2", "--t-end", "200",
             "--out", str(tmp_path / "s.h5"), "--workers", "2"]
     out = _json(capsys, argv)
     assert (out["tasks"], out["computed"], out["skipped"], out["failed"]) == (2, 2, 0, 0)
@@ -79,7 +79,7 @@ def test_sweep_cli_resumes(tmp_path, capsys):
     out = _json(capsys, argv)
     assert (out["computed"], out["skipped"]) == (0, 2)
     assert out["fraction_blew_up"] == [{"tau": 10.0, "N": 8, "n": 2, "fraction": 0.0}]
-    out = _json(capsys, ["sweep", "--kind", "chaos", "--taus", "10", "--Ns", "8",
+    out = _json(capsys, ["sweep", "--kind", "chaos", "--tau", "10", "--N", "8",
                          "--realisations", "1", "--t-end", "100", "--samples", "10",
                          "--out", str(tmp_path / "c.h5"), "--work-dir", str(tmp_path / "cw")])
     assert out["computed"] == 1 and (tmp_path / "cw").is_dir()
@@ -97,12 +97,12 @@ def test_help(cmd, capsys):
 
 @pytest.mark.parametrize("argv, name", [
     (["sweep", "--realisations", "0"], "realisations"),
-    (["sweep", "--t-max", "0"], "t_max"),
-    (["sweep", "--Ns", "1"], "Ns"),
+    (["sweep", "--t-end", "0"], "--t-end"),
+    (["sweep", "--N", "1"], "Ns"),
     (["sweep", "--samples", "10"], "--samples"),
     (["coefficients", "--N", "1"], "N must be >= 2"),
     (["coefficients", "--model", "homogeneous", "--tau", "5"], "tau"),
-    (["tauc", "--R", "0"], "R must be >= 1"),
+    (["tauc", "--realisations", "0"], "--realisations must be >= 1"),
     (["bifurcation", "--B-tilde", "0"], "B_tilde"),
     (["bifurcation", "--A-tilde", "nan"], "A_tilde"),
 ])

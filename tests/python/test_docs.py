@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 
 import fputlab
-from fputlab import blowup, chaos, figures, figures_reduction, io, plotting, reduction
+from fputlab import (analysis, blowup, chaos, ensemble, figures, figures_reduction, io, plotting,
+                     reduction)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -21,14 +22,29 @@ MAIN = [fputlab.Lattice, fputlab.Lattice.integrate, fputlab.integrate, fputlab.I
         plotting.plot_mode_energies, plotting.envelope, plotting.plot_envelope, plotting.plot_mle,
         plotting.plot_sali, plotting.plot_two_mode, plotting.plot_blowup_sweep,
         plotting.plot_bifurcation, plotting.plot_bifurcation_curves,
-        figures.fig1, figures.fig2, figures.fig3, plotting.plot_blowup_sweep_figure,
-        io.simulate_to_file, io.chaos_to_file, io.load, io.write_checkpoint, io.load_checkpoint,
-        io.checkpoint_time, io.ResultsFile]
+        figures.fig1, figures.fig2, figures.fig3, reduction.two_mode_coefficients,
+        reduction.critical_tolerance, reduction.two_mode_run, reduction.envelope_run,
+        chaos.chaotic_fraction, analysis.recurrences, analysis.energy_share,
+        analysis.spectral_entropy, analysis.effective_modes, analysis.normalised_entropy,
+        ensemble.run_sweep, ensemble.load_sweep, ensemble.run_calls, ensemble.run_task,
+        ensemble.run_chaos_group, ensemble.check_ensemble, ensemble.process_pool,
+        plotting.plot_blowup_sweep_figure, io.simulate_to_file, io.chaos_to_file, io.load,
+        io.write_checkpoint, io.load_checkpoint, io.checkpoint_time, io.ResultsFile]
 # every public function of the reduction modules
 MAIN += [obj for mod in (reduction.coefficients, reduction.statistics, reduction.modal,
                          reduction.envelope, reduction.reduced)
          for name, obj in vars(mod).items()
          if inspect.isfunction(obj) and not name.startswith("_") and obj.__module__ == mod.__name__]
+
+
+@pytest.mark.parametrize("obj", [chaos.chaotic_fraction, analysis.recurrences,
+                                 analysis.energy_share, ensemble.run_sweep, ensemble.run_calls,
+                                 ensemble.load_sweep, ensemble.check_ensemble],
+                         ids=lambda o: o.__qualname__)
+def test_ensemble_and_analysis_docstrings_have_returns_and_raises(obj):
+    doc = inspect.getdoc(obj)
+    assert re.search(r"\n(Returns|Yields)\n-+\n", doc), obj
+    assert re.search(r"\nRaises\n-+\n", doc) or obj is ensemble.run_calls, obj
 
 
 def documented_parameters(doc: str) -> list[str]:

@@ -186,9 +186,9 @@ def test_failed_tasks_are_reported_and_retried(tmp_path, dask_cluster, engine):
     opts = dict(t_max=500.0, work_dir=tmp_path / "w", out=tmp_path / "f.h5", progress=False,
                 criteria=[])
     out = run_sweep(*args, **opts, **kw)
-    assert out["computed"] == 1 and [t.seed for t, _ in out["failed"]] == [1, 3]
-    assert all(msg.startswith("IntegrationError: state became non-finite")
-               for _, msg in out["failed"])
+    assert out["computed"] == 1 and [f.task.seed for f in out["failed"]] == [1, 3]
+    assert all(f.message.startswith("IntegrationError: state became non-finite")
+               for f in out["failed"])
     assert len(list((tmp_path / "w").glob("*.h5"))) == 1
     m = load_sweep(tmp_path / "f.h5")
     assert list(m["seed"]) == [2] and m["attrs"]["n_failed"] == 2 and m["attrs"]["n_tasks"] == 3

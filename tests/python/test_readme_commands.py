@@ -77,7 +77,7 @@ def test_simulate_reports_an_energy_error_only_for_conservative_models():
 def test_human_output_has_no_python_reprs():
     # the text (non-JSON) summaries are for people: no dict/list reprs, numbers kept short
     out = subprocess.run([sys.executable, "-m", "fputlab", "chaos", "--tau", "10",
-                          "--realisations", "2", "--Ns", "4", "8", "--t-end", "100"],
+                          "--realisations", "2", "--N", "4", "8", "--t-end", "100"],
                          capture_output=True, text=True, check=True).stdout
     assert not re.search(r"[{}\[\]]|'", out), out
     assert re.search(r"classes: 4: chaotic 0, regular \d", out), out

@@ -58,17 +58,17 @@ def test_other_output_collisions_are_refused(tmp_path, capsys):
     p = str(tmp_path / "x.h5")
     assert main(["bifurcation", "--out", p, "--plot", p]) == 2
     assert "same file" in capsys.readouterr().err and not os.path.exists(p)
-    assert main(["blowup", "--taus", "0", "5", "--realisations", "2", "--t-max", "10",
+    assert main(["blowup", "--tau", "0", "5", "--realisations", "2", "--t-end", "10",
                  "--out", p, "--plot", p]) == 2
     assert "same file" in capsys.readouterr().err and not os.path.exists(p)
-    assert main(["sweep", "--out", p, "--work-dir", p, "--realisations", "1", "--t-max", "1"]) == 2
+    assert main(["sweep", "--out", p, "--work-dir", p, "--realisations", "1", "--t-end", "1"]) == 2
     assert "same file" in capsys.readouterr().err and not os.path.exists(p)
     (tmp_path / "afile").write_text("x")
     assert main(["sweep", "--out", str(tmp_path / "s.h5"), "--work-dir", str(tmp_path / "afile"),
-                 "--realisations", "1", "--t-max", "1"]) == 2
+                 "--realisations", "1", "--t-end", "1"]) == 2
     assert "not a directory" in capsys.readouterr().err
     assert main(["sweep", "--out", str(tmp_path / "d" / "s.h5"), "--work-dir", str(tmp_path / "d"),
-                 "--realisations", "1", "--t-max", "1"]) == 2
+                 "--realisations", "1", "--t-end", "1"]) == 2
     assert "inside --work-dir" in capsys.readouterr().err
 
 
@@ -116,7 +116,8 @@ def test_summary_outputs_are_not_overwritten_without_overwrite(tmp_path, capsys)
 
 def test_extending_a_finished_run_continues_to_the_new_end_bit_for_bit(tmp_path, capsys):
     out, ck, ref = tmp_path / "C.h5", tmp_path / "C.ckpt", tmp_path / "ref.h5"
-    base = ["simulate", "--N", "8", "--out", str(out), "--checkpoint", str(ck), "--json",
+    base = ["simulate", "--model", "nonlinear", "--tau", "10", "--N", "8", "--out", str(out),
+            "--checkpoint", str(ck), "--json",
             "--checkpoint-steps", "3000"]
     assert main(base + ["--t-end", "400", "--sample-every", "1"]) == 0
     capsys.readouterr()
@@ -326,10 +327,11 @@ def test_load_names_what_is_missing_or_wrong(tmp_path):
     ["simulate", "--N", "8", "--t-end", "1", "--out", "/proc/nope/r.h5"],
     ["simulate", "--N", "8", "--t-end", "1", "--out", "{tmp}/r.h5", "--checkpoint", "/proc/x/c"],
     ["chaos", "--N", "8", "--t-end", "1", "--out", "/proc/nope/c.h5"],
-    ["sweep", "--out", "{tmp}/s.h5", "--work-dir", "{tmp}/file", "--t-max", "1"],
+    ["sweep", "--out", "{tmp}/s.h5", "--work-dir", "{tmp}/file", "--t-end", "1"],
     ["demo", "--N", "1", "--out", "{tmp}/d.png"],
     ["simulate", "--N", "3000000000"],
-    ["simulate", "--N", "8", "--seed", "99999999999999999999999"],
+    ["simulate", "--model", "nonlinear", "--tau", "10", "--N", "8", "--seed",
+     "99999999999999999999999"],
     ["coefficients", "--out", "/proc/nope/c.h5"],
     ["bifurcation", "--plot", "/proc/nope/b.png"],
     ["simulate", "--N", "8", "--method", "euler"],
@@ -342,7 +344,7 @@ def test_cli_failures_are_one_line_and_exit_2(tmp_path, args):
 
 def test_cli_unreachable_scheduler_is_one_line(tmp_path):
     code, _, err = run_cli("sweep", "--out", tmp_path / "s.h5", "--scheduler", "tcp://127.0.0.1:9",
-                           "--realisations", "1", "--t-max", "1",
+                           "--realisations", "1", "--t-end", "1",
                            env={**os.environ, "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "1s"})
     assert code == 2 and one_line_error(err), err
 
@@ -361,7 +363,7 @@ raise SystemExit(main(sys.argv[1:]))
 
 def test_cli_without_dask_is_one_line(tmp_path):
     p = subprocess.run([sys.executable, "-c", NO_DASK, "sweep", "--out", str(tmp_path / "s.h5"),
-                        "--scheduler", "tcp://127.0.0.1:9", "--realisations", "1", "--t-max", "1"],
+                        "--scheduler", "tcp://127.0.0.1:9", "--realisations", "1", "--t-end", "1"],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and one_line_error(p.stderr) and "dask" in p.stderr, p.stderr
 
@@ -369,15 +371,15 @@ def test_cli_without_dask_is_one_line(tmp_path):
 JSON_COMMANDS = [
     ["simulate", "--N", "8", "--t-end", "5"],
     ["simulate", "--N", "8", "--t-end", "5", "--out", "{tmp}/s.h5"],
-    ["blowup", "--tau", "0", "--t-max", "100"],                      # time NaN -> null
-    ["blowup", "--taus", "0", "30", "--realisations", "2", "--t-max", "50", "--N", "8",
+    ["blowup", "--tau", "0", "--t-end", "100"],                      # time NaN -> null
+    ["blowup", "--tau", "0", "30", "--realisations", "2", "--t-end", "50", "--N", "8",
      "--workers", "1"],
     ["chaos", "--N", "4", "--t-end", "3", "--samples", "5", "--model", "homogeneous"],
     ["chaos", "--N", "4", "--t-end", "3", "--samples", "5", "--out", "{tmp}/c.h5"],
-    ["sweep", "--taus", "0", "--Ns", "8", "--realisations", "1", "--t-max", "5", "--workers", "1",
+    ["sweep", "--tau", "0", "--N", "8", "--realisations", "1", "--t-end", "5", "--workers", "1",
      "--out", "{tmp}/w.h5"],
     ["coefficients"],
-    ["tauc", "--R", "5"],
+    ["tauc", "--realisations", "5"],
     ["bifurcation"],
     ["demo", "--t-end", "200", "--N", "8", "--out", "{tmp}/d.png"],
 ]
@@ -393,7 +395,7 @@ def test_every_json_output_is_strict_json(tmp_path, args):
 
 
 def test_blowup_without_blowup_prints_null_time(capsys):
-    assert main(["blowup", "--tau", "0", "--t-max", "100", "--json"]) == 0
+    assert main(["blowup", "--tau", "0", "--t-end", "100", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["blew_up"] is False and out["time"] is None
 
@@ -465,7 +467,7 @@ def test_bad_input_that_used_to_pass_quietly(capsys):
         fputlab.chaos.chaotic_fraction(Ns=[], realisations=2, t_end=1.0)
     for args, word in ((["simulate", "--model", "homogeneous", "--tau", "10", "--t-end", "1"], "--tau"),
                        (["chaos", "--model", "homogeneous", "--tau", "5", "--t-end", "1"], "--tau"),
-                       (["blowup", "--realisations", "0", "--t-max", "1"], "--realisations"),
+                       (["blowup", "--tau", "20", "--realisations", "0", "--t-end", "1"], "--realisations"),
                        (["chaos", "--realisations", "0", "--t-end", "1"], "--realisations"),
                        (["figures", "--only", "99"], "99"),
                        (["bifurcation", "--N", "-5"], "--N")):
@@ -650,8 +652,8 @@ def test_ctrl_c_stops_a_sweep_and_its_workers_at_once(tmp_path):
     import signal
     import time
     cmd = [sys.executable, "-c", "import sys\nfrom fputlab.cli import main\nprint('start', "
-           "flush=True)\nsys.exit(main(sys.argv[1:]))", "sweep", "--realisations", "4", "--Ns",
-           "64", "--taus", "0", "--t-max", "1e7", "--out", str(tmp_path / "s.h5"), "--workers",
+           "flush=True)\nsys.exit(main(sys.argv[1:]))", "sweep", "--realisations", "4", "--N",
+           "64", "--tau", "0", "--t-end", "1e7", "--out", str(tmp_path / "s.h5"), "--workers",
            "2", "--json"]
 
     def session():
