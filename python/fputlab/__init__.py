@@ -6,7 +6,7 @@
     >>> run.mode_energies[:, :4]                              # E_1..E_4 (paper Fig. 1b)
 """
 from ._errors import FputlabError, IntegrationError, Interrupted
-from ._native import ffi as _ffi, lib as _lib
+from ._lowlevel import VERSION as __version__
 from .integrate import Integrator, Run, integrate, iter_samples, method_info, methods
 from . import analysis, blowup, chaos
 from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
@@ -14,8 +14,6 @@ from .modes import mode_matrix, omega
 from . import reduction
 from . import io
 from .io import load
-
-__version__ = _ffi.string(_lib.fpl_version()).decode()
 
 __all__ = ["Lattice", "draw_disorder", "integrate", "iter_samples", "Integrator", "methods",
            "method_info", "Run", "omega", "mode_matrix",

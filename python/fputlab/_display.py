@@ -4,6 +4,7 @@ a sensible one-line summary without touching this module."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 
 import numpy as np
@@ -196,3 +197,28 @@ class ResultMixin:
                 dims = tuple(f"{f.name}_dim{i}" for i in range(value.ndim))
             data[f.name] = variable(dims, value, f.name)
         return xr.Dataset(data, coords=coords, attrs=scalar_attrs(self))
+
+
+def _json_safe(x):
+    """x with numpy scalars/arrays as Python numbers/lists and non-finite floats as None, so that
+    the output is strict JSON (RFC 8259 has no NaN or Infinity)."""
+    if isinstance(x, dict):
+        return {str(k): _json_safe(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_json_safe(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _json_safe(x.tolist())
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    if x is None or isinstance(x, str):
+        return x
+    return str(x)
+
+
+def dumps_strict(obj, **kw) -> str:
+    """json.dumps of _json_safe(obj); never writes NaN/Infinity."""
+    return json.dumps(_json_safe(obj), allow_nan=False, **kw)

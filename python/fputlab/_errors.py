@@ -31,42 +31,19 @@ class Interrupted(KeyboardInterrupt):
         self.result = result
 
 
-class Pacer:
-    """How far (in units of t) the next C call may go so that it returns within about
-    `seconds` of wall time (measured as the run goes): between calls Python sees signals, so
-    Ctrl-C takes effect promptly. Pausing a fixed-step method between grid points changes
-    nothing; adaptive methods are only paused where they stop anyway (samples)."""
-
-    def __init__(self, first_span: float, seconds: float = 0.2):
-        self.seconds, self._span = seconds, float(first_span)
-
-    @property
-    def span(self) -> float:
-        return self._span
-
-    def record(self, advanced: float, elapsed: float) -> None:
-        if advanced > 0 and elapsed > 1e-4:
-            want = advanced / elapsed * self.seconds
-            self._span = min(max(want, self._span / 4), self._span * 4)   # smooth, no wild jumps
-
-
-def first_span(dt: float | None, N: int, n_dev: int = 0) -> float:
-    """A first segment of about 1e7 site-steps (~0.05 s) before the speed is measured."""
-    return (dt or 0.01) * max(1.0, 1e7 / (N * (1 + n_dev)))
-
-
 def last_error() -> str:
     return ffi.string(lib.fpl_last_error()).decode()
 
 
-def check(status: int, handle=None) -> int:
-    """Return a non-negative status; raise the matching exception for a negative one."""
+def check(status: int, handle_message=None) -> int:
+    """Return a non-negative status; raise the matching exception for a negative one.
+    `handle_message`: a callable giving the failing handle's own message (the fallback)."""
     if status >= 0:
         return status
     # The thread-local message is always set by the call that just failed in this thread.
     msg = last_error()
-    if not msg and handle is not None:
-        msg = ffi.string(lib.fpl_lattice_errmsg(handle)).decode()
+    if not msg and handle_message is not None:
+        msg = handle_message()
     msg = msg or ffi.string(lib.fpl_status_name(status)).decode()
     if status in (lib.FPL_ERR_ARG, lib.FPL_ERR_UNKNOWN):
         raise ValueError(msg)

@@ -3,18 +3,23 @@ blow-up probability over disorder realisations (paper Sec. 3, Fig. 3 and Sec. 4)
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
 
+from . import _lowlevel as ll
 from ._display import ResultMixin
 from ._arrays import as_float_array
-from ._errors import check
-from ._native import ffi, lib
-from .integrate import CRITERIA, Integrator, event_set, method_info  # noqa: F401 (CRITERIA)
-from .lattice import Lattice, _int, _real
-
+from ._engine import check_ensemble, run_calls
+from ._errors import Interrupted
+from ._pacing import Pacer, first_span
+from ._validate import _real
+# CRITERIA stays importable from here (fputlab.blowup.CRITERIA)
+from .integrate import CRITERIA, Integrator, check_steps, method_info  # noqa: F401
+from .lattice import Lattice
+from .reduction import realisation_quadratics
 
 def default_criteria(lattice: Lattice) -> list[tuple]:
     """The cubic potential's barrier: a bond stretched beyond 1/alpha has escaped (V'(s) = 0 at
@@ -38,7 +43,7 @@ class Blowup(ResultMixin):
 
 
 def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt: float | None = None,
-                rtol: float = 1e-10, atol: float = 1e-12, y0=None, criteria=None,
+                rtol: float = ll.RTOL, atol: float = ll.ATOL, y0=None, criteria=None,
                 progress: bool = False) -> Blowup:
     """Integrate until a stopping criterion fires (a blow-up) or `t_max`.
 
@@ -81,20 +86,15 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
     crit = default_criteria(lattice) if criteria is None else criteria
     y = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * lattice.N,))
     if dt is None and not method_info(method)["adaptive"]:
-        dt = 0.01
+        dt = ll.DT
     if not method_info(method)["adaptive"]:
-        from .integrate import check_steps
         check_steps(t_max, _real(dt, "dt"), "t_max", t_max)
-    event_set(crit)                # bad criteria raise here
+    # the criteria belong to this run (the lattice stays untouched)
     integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol, criteria=crit)
-    index, t_ev = ffi.new("int *"), ffi.new("double *")
-    # in segments: fixed-step ones of ~0.2 s (pausing changes nothing), adaptive ones in 100
-    # equal parts (deterministic); Ctrl-C is seen between them
-    import time
-
     from tqdm.auto import tqdm
 
-    from ._errors import Interrupted, Pacer, first_span
+    # in segments: fixed-step ones of ~0.2 s (pausing changes nothing), adaptive ones in 100
+    # equal parts (deterministic); Ctrl-C is seen between them
     pacer = Pacer(first_span(dt, lattice.N)) if not integ.adaptive else None
     target, status = 0.0, 0
     with tqdm(total=t_max, desc=f"blow-up N={lattice.N}", unit="t",
@@ -105,7 +105,8 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
                 step = pacer.span if pacer else t_max / 100
                 target = min(t_max, target + step)
                 before, clock = integ.t, time.perf_counter()
-                status = lib.fpl_integrator_advance(integ._h, target, ffi.NULL)
+                # a failure without an event is not a blow-up: it raises
+                status = integ._h.advance(target)
                 if pacer:
                     pacer.record(integ.t - before, time.perf_counter() - clock)
                 bar.update(integ.t - bar.n)
@@ -113,23 +114,19 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
             msg = f"interrupted (Ctrl-C) at t = {integ.t:.10g}"
             raise Interrupted(msg, Blowup(False, float("nan"), "", integ.t, integ.state[0],
                                           method, msg)) from None
-    fired = lib.fpl_integrator_event(integ._h, index, t_ev)
-    message = ffi.string(lib.fpl_integrator_errmsg(integ._h)).decode()
-    if status < 0:
-        check(status)           # a failure without an event is not a blow-up: raise
+    event = integ.event
+    message = integ._h.errmsg()
     state = integ.state[0]
     params = {"N": lattice.N, "model": lattice.model, "tau": lattice.tau, "seed": lattice.seed}
-    if fired:
-        return Blowup(True, t_ev[0], ffi.string(
-            lib.fpl_integrator_event_describe(integ._h, index[0])).decode(), t_ev[0], state,
-            method, message, params)
+    if event:
+        return Blowup(True, event["time"], event["criterion"], event["time"], state,
+                      method, message, params)
     return Blowup(False, float("nan"), "", t_max, state, method, "", params)
 
 
 def realisation_tau_c(N: int, seed: int, alpha: float = 0.25, disorder: str = "gaussian") -> float:
     """The realisation's own two-mode threshold: the smallest tau > 0 where its B~(tau) = 0
     (same standard draws z for every tau; NaN if B~ never vanishes)."""
-    from .reduction import realisation_quadratics
     return float(realisation_quadratics(N, alpha, R=1, seed0=seed, kind=disorder).critical_tolerances()[0])
 
 
@@ -199,13 +196,13 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
     dict
         ``tau``, ``N``, ``probability`` (len(taus) x len(Ns)), the per-realisation ``records``
         (`BlowupRecord`: tau, N, seed, blew_up, time, tau_c, in the order tau, N, seed) where
-        tau_c is the realisation's own two-mode threshold (B~ < 0 above it), and ``prediction_accuracy``: the share of runs where
-        "tau > tau_c" agrees with "blew up before t_max". Plot with `plot_sweep` or
+        tau_c is the realisation's own two-mode threshold (B~ < 0 above it), and
+        ``prediction_accuracy``: the share of runs where "tau > tau_c" agrees with "blew up
+        before t_max". Plot with `fputlab.plotting.plot_blowup_sweep_figure` or
         `fputlab.plotting.plot_blowup_sweep`.
     """
     from tqdm.auto import tqdm
 
-    from .ensemble import check_ensemble, run_calls
     taus, Ns, realisations = check_ensemble(taus, Ns, realisations)
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]
@@ -227,23 +224,3 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
     return {"tau": np.array(taus), "N": np.array(Ns), "probability": prob, "records": records,
             "t_max": t_max, "realisations": realisations,
             "prediction_accuracy": float(np.mean(agree)) if agree else float("nan")}
-
-
-def plot_sweep(sweep: dict, path: str | None = None):
-    """(a) probability of blow-up before t_max versus tau (one curve per N), with the fraction of
-    realisations whose own two-mode tau_c lies below tau (the reduction's prediction); (b) the
-    distribution of blow-up times (`fputlab.plotting.plot_blowup_sweep`). Returns the figure;
-    writes a PNG if `path` is given."""
-    import matplotlib
-    if path is not None:
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .plotting import plot_blowup_sweep
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.2), constrained_layout=True)
-    plot_blowup_sweep(sweep, ax=a)
-    plot_blowup_sweep(sweep, ax=b, kind="times")
-    if path is not None:
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-    return fig

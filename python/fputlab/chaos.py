@@ -3,19 +3,22 @@ orbits, and the chaotic fraction over disorder realisations (paper Sec. 5, Figs.
 from __future__ import annotations
 
 import inspect
-import math
 import os
-from dataclasses import dataclass, field
+import time
 from typing import NamedTuple
 
 import numpy as np
 
-from ._display import ResultMixin
-from ._arrays import as_float_array, ptr
-from ._errors import IntegrationError, check, last_error
-from ._native import ffi, lib
+from . import _lowlevel as ll
+from ._arrays import as_float_array, check_memory
+from ._chaos_result import CLASSES, ChaosResult, classify_orbit  # noqa: F401 (public here)
+from ._engine import check_ensemble, run_calls
+from ._errors import IntegrationError, Interrupted, check, last_error
+from ._pacing import Pacer, first_span
+from ._validate import C_U64, _int, _real
+from .chaos_batch import BATCH_METHODS, lyapunov_batch
 from .integrate import method_info
-from .lattice import C_U64, Lattice, _int, _real
+from .lattice import Lattice
 
 
 #: The default integrator of chaos ensembles (chaotic_fraction, sweeps, the study behind
@@ -26,104 +29,46 @@ from .lattice import C_U64, Lattice, _int, _real
 #: (method="dop853" or method="yoshida4", dt=0.01).
 ENSEMBLE_METHOD, ENSEMBLE_DT = "srkn14a6", 0.5
 
-#: the classes of an orbit, exactly these (C: fpl_orbit_class)
-CLASSES = ("chaotic", "regular", "blow-up", "undecided")
-
-
-def classify_orbit(t, mle, *, chaotic: bool, t_chaotic: float, blew_up: bool, t_blowup: float,
-                   t_final: float, t_eval: float | None = None) -> str:
-    """The class of an orbit at time t_eval (default t_final) from its log-spaced samples: the C
-    rule fpl_chaos_classify, the only one. 'blow-up' if it blew up by t_eval; 'chaotic' if SALI
-    fell below the threshold on the finite orbit by t_eval (never at or after a blow-up);
-    'regular' if the run reached t_eval and lambda(t) follows the 1/t law over the last decade;
-    otherwise 'undecided'."""
-    t = np.ascontiguousarray(t, dtype=float)
-    mle = np.ascontiguousarray(mle, dtype=float)
-    if t.shape != mle.shape or t.ndim != 1:
-        raise ValueError(f"t and mle must be 1-D of one length (got {t.shape}, {mle.shape})")
-    r = ffi.new("fpl_chaos_result *")
-    r.chaotic, r.t_chaotic = bool(chaotic), float(t_chaotic)
-    r.blew_up, r.t_blowup, r.t_final = bool(blew_up), float(t_blowup), float(t_final)
-    out = ffi.new("int *")
-    te = math.nan if t_eval is None else _real(t_eval, "t_eval")
-    check(lib.fpl_chaos_classify(r, ptr(t) if t.size else ffi.NULL,
-                                 ptr(mle) if t.size else ffi.NULL, t.size, te, out))
-    return ffi.string(lib.fpl_orbit_class_name(out[0])).decode()
-
-
-@dataclass(repr=False)
-class ChaosResult(ResultMixin):
-    """lambda(t), SALI(t), GALI(t) at log-spaced times for one orbit.
-
-    The orbit's class (`classify`) is exactly one of 'chaotic', 'regular', 'blow-up',
-    'undecided'. A blow-up is decided by a stopping criterion, the bond-stretch check
-    (`blowup_stretch`) or a non-finite state; 'chaotic' only by SALI < threshold on a finite
-    orbit before any blow-up."""
-    t: np.ndarray
-    mle: np.ndarray
-    sali: np.ndarray
-    gali: np.ndarray
-    chaotic: bool              # SALI fell below the threshold on the finite orbit
-    t_chaotic: float           # when it did (NaN if never)
-    t_final: float
-    steps: int
-    method: str
-    completed: bool = True     # t_end reached, or stopped chaotic
-    message: str = ""          # why the run ended early (blow-up: when and why)
-    params: dict = field(default_factory=dict)
-    blew_up: bool = False      # the run ended in a blow-up
-    t_blowup: float = math.nan
-
-    @property
-    def mle_final(self) -> float:
-        return float(self.mle[-1]) if self.mle.size else float("nan")
-
-    def classify(self, t_eval: float | None = None) -> str:
-        """The class at time t_eval (default: the end of the run): 'chaotic', 'regular',
-        'blow-up' or 'undecided' (see `classify_orbit`)."""
-        return classify_orbit(self.t, self.mle, chaotic=self.chaotic, t_chaotic=self.t_chaotic,
-                              blew_up=self.blew_up, t_blowup=self.t_blowup,
-                              t_final=self.t_final, t_eval=t_eval)
+#: the C defaults of the chaos options (fpl_chaos_options_init)
+_C = ll.CHAOS_DEFAULTS
 
 
 def _run_with_progress(lattice, method, io, t0, y, w, co, arrays, res, progress=True) -> int:
     """fpl_chaos_run through the resumable handle in segments of ~0.2 s (pauses fall on
     renormalisation times, so the numbers are those of one call; Ctrl-C is seen between
     segments), with a tqdm bar if `progress`."""
-    import time
-
     from tqdm.auto import tqdm
 
-    from ._errors import Pacer, first_span
-    out = ffi.new("fpl_chaos **")
-    status = lib.fpl_chaos_create(lattice._h, method.encode(), io, t0, ptr(y), w, co, out)
-    if status < 0:
-        return status
-    c = ffi.gc(out[0], lambda h: lib.fpl_chaos_free(ffi.new("fpl_chaos **", h)))
+    try:
+        c = ll.ChaosHandle(lattice._h, method, io, t0, y, w, co)
+    except IntegrationError as err:           # a numerical failure: the caller keeps what it has
+        return err.status
+    status = 0
     span = co.t_end - t0
     pacer = Pacer(max(first_span(io.dt or None, lattice.N, co.n_dev), co.renorm_interval))
     with tqdm(total=span, desc=f"chaos N={lattice.N}", unit="t", disable=None if progress else True,
               bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
         target = t0
-        while target < co.t_end:
-            target = min(co.t_end, target + pacer.span)
-            before, clock = res.t_final, time.perf_counter()
-            status = lib.fpl_chaos_advance(c, target, *(ptr(a) for a in arrays))
-            lib.fpl_chaos_get_result(c, res)
-            pacer.record(res.t_final - before, time.perf_counter() - clock)
-            bar.update(res.t_final - t0 - bar.n)
-            if status < 0 or lib.fpl_chaos_done(c):
-                break
-    lib.fpl_chaos_get_result(c, res)
+        try:
+            while target < co.t_end:
+                target = min(co.t_end, target + pacer.span)
+                before, clock = res.t_final, time.perf_counter()
+                status = c.advance(target, *arrays)
+                c.get_result(res)
+                pacer.record(res.t_final - before, time.perf_counter() - clock)
+                bar.update(res.t_final - t0 - bar.n)
+                if c.done():
+                    break
+        except IntegrationError as err:       # NaN/Inf: the samples before it are kept
+            status = err.status
+    c.get_result(res)
     return status
 
 
 def _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sali_threshold,
                    stop_when_chaotic, seed, blowup_stretch):
     """A validated fpl_chaos_options (defaults from fpl_chaos_options_init)."""
-    co = ffi.new("fpl_chaos_options *")
-    lib.fpl_chaos_options_init(co)
-    co.t_end = _real(t_end, "t_end")
+    co = ll.chaos_options(_real(t_end, "t_end"))
     if renorm_interval is not None:
         co.renorm_interval = _real(renorm_interval, "renorm_interval")
     co.n_samples = _int(n_samples, "n_samples")
@@ -141,9 +86,11 @@ def _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sal
 
 
 def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
-             rtol: float = 1e-10, atol: float = 1e-12, y0=None, w0=None, n_dev: int = 2,
-             renorm_interval: float = 1.0, n_samples: int = 200, t_first_sample: float = 0.0,
-             sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
+             rtol: float = ll.RTOL, atol: float = ll.ATOL, y0=None, w0=None,
+             n_dev: int = _C["n_dev"], renorm_interval: float = _C["renorm_interval"],
+             n_samples: int = _C["n_samples"], t_first_sample: float = _C["t_first_sample"],
+             sali_threshold: float = _C["sali_threshold"], stop_when_chaotic: bool = False,
+             seed: int = _C["seed"],
              t0: float = 0.0, progress: bool = False,
              blowup_stretch: float | None = None) -> ChaosResult:
     """Chaos indicators of one orbit: finite-time mLE λ(t), SALI(t) and GALI_k(t) (paper Sec. 5).
@@ -220,21 +167,15 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     N = lattice.N
     y = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * N,))
     n_dev = _int(n_dev, "n_dev")
-    w = ffi.NULL
-    if w0 is not None:
-        w_arr = as_float_array(w0, "w0", (n_dev, 2 * N))
-        w = ptr(w_arr)
-    io = ffi.new("fpl_integrator_options *")
-    lib.fpl_integrator_options_init(io)
-    io.dt = (0.0 if adaptive else 0.01) if dt is None else _real(dt, "dt")
-    io.rtol, io.atol = _real(rtol, "rtol"), _real(atol, "atol")
+    w = None if w0 is None else as_float_array(w0, "w0", (n_dev, 2 * N))
+    io = ll.integrator_options((0.0 if adaptive else ll.DT) if dt is None else _real(dt, "dt"),
+                               _real(rtol, "rtol"), _real(atol, "atol"))
     co = _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sali_threshold,
                         stop_when_chaotic, seed, blowup_stretch)
     S = max(co.n_samples, 1)
-    from ._arrays import check_memory
     check_memory(8.0 * (4 * S + 2 * N * (n_dev + 2)), f"{S} chaos samples (N = {N}, n_dev = {n_dev})")
     t, mle, sali, gali = (np.full(S, np.nan) for _ in range(4))
-    res = ffi.new("fpl_chaos_result *")
+    res = ll.chaos_result()
     interrupted = False
     try:
         status = _run_with_progress(lattice, method, io, _real(t0, "t0"), y, w, co,
@@ -251,7 +192,6 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
                               "renorm_interval": co.renorm_interval},
                       blew_up=bool(res.blew_up), t_blowup=res.t_blowup)
     if interrupted:
-        from ._errors import Interrupted
         out.completed, out.message = False, f"interrupted (Ctrl-C) at t = {res.t_final:.10g}"
         raise Interrupted(out.message, out)
     if status < 0:
@@ -280,7 +220,6 @@ def _one_realisation(args) -> OrbitRecord:
 def _batch_of_realisations(args) -> list[OrbitRecord]:
     """Several realisations of one N in one batched run (fputlab.chaos_batch): the same numbers
     as `_one_realisation` for each, several times cheaper per orbit for small N."""
-    from .chaos_batch import lyapunov_batch
     N, tau, seeds, model, alpha, t_end, method, kwargs = args
     if len(seeds) == 1:      # one lane gains nothing over the single-orbit path (same numbers)
         return [_one_realisation((N, tau, seeds[0], model, alpha, t_end, method, kwargs))]
@@ -361,12 +300,10 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
     >>> out = chaotic_fraction(Ns=(4, 8), realisations=4, t_end=1e3)    # doctest: +SKIP
     >>> out["percent"], out["classes"][8]                                 # doctest: +SKIP
     """
-    from .ensemble import check_ensemble, run_calls
     method, kwargs = ensemble_defaults(method, kwargs)
     _, Ns, realisations = check_ensemble([tau], Ns, realisations)
     Ns = [int(N) for N in Ns]
     seeds = [first_seed + r for r in range(realisations)]
-    from .chaos_batch import BATCH_METHODS, lyapunov_batch
     batched = method in BATCH_METHODS and set(kwargs) <= set(
         inspect.signature(lyapunov_batch).parameters)
     if batched:    # orbits of one N in the vector lanes: chunks of >= 4 orbits, one per core
@@ -400,9 +337,7 @@ def sali(w1, w2) -> float:
     """SALI of two vectors: ``min(|w1^ - w2^|, |w1^ + w2^|)``."""
     a = as_float_array(w1, "w1")
     b = as_float_array(w2, "w2", a.shape)
-    out = ffi.new("double *")
-    check(lib.fpl_chaos_sali(ptr(a), ptr(b), a.size, out))
-    return out[0]
+    return ll.chaos_sali(a, b)
 
 
 def gali(w) -> float:
@@ -410,6 +345,4 @@ def gali(w) -> float:
     arr = as_float_array(w, "w")
     if arr.ndim != 2:
         raise ValueError(f"w has shape {arr.shape}, expected (k, len)")
-    out = ffi.new("double *")
-    check(lib.fpl_chaos_gali(ptr(arr), arr.shape[0], arr.shape[1], out))
-    return out[0]
+    return ll.chaos_gali(arr)

@@ -11,15 +11,18 @@ import dataclasses
 
 import numpy as np
 
-from ._arrays import as_float_array, ptr
-from ._errors import check
-from ._native import ffi, lib
-from .chaos import ChaosResult
-from .integrate import event_set
-from .lattice import Lattice, _int, _real
+from . import _lowlevel as ll
+from ._arrays import as_float_array
+from ._chaos_result import ChaosResult
+from ._validate import _int, _real
+from .integrate import criteria_events
+from .lattice import Lattice
 
 #: methods the batch kernel runs (splitting schemes with the kinetic drift)
 BATCH_METHODS = ("leapfrog", "yoshida4", "aba864", "srkn14a6")
+
+#: the C defaults of the chaos options (fpl_chaos_options_init, shared by the batch handle)
+_C = ll.CHAOS_DEFAULTS
 
 _BLOWUP_REASONS = {0: "", 1: "event", 2: "non-finite", 3: "stretch"}
 
@@ -38,9 +41,11 @@ def _states(values, name: str, R: int, shape: tuple, default):
 
 
 def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
-                   y0=None, w0=None, n_dev: int = 2, renorm_interval: float = 1.0,
-                   n_samples: int = 200, t_first_sample: float = 0.0,
-                   sali_threshold: float = 1e-8, stop_when_chaotic: bool = False, seed: int = 1,
+                   y0=None, w0=None, n_dev: int = _C["n_dev"],
+                   renorm_interval: float = _C["renorm_interval"],
+                   n_samples: int = _C["n_samples"], t_first_sample: float = _C["t_first_sample"],
+                   sali_threshold: float = _C["sali_threshold"], stop_when_chaotic: bool = False,
+                   seed: int = _C["seed"],
                    t0: float = 0.0, criteria=None, progress: bool = False,
                    blowup_stretch: float | None = None) -> list[ChaosResult]:
     """lambda(t), SALI(t), GALI(t) of several orbits computed together; one ChaosResult each.
@@ -66,8 +71,8 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
         As in `fputlab.chaos.lyapunov` (renorm_interval must be >= dt).
     criteria : list, optional
         Stopping criteria for blow-up, as in `fputlab.blowup.blowup_time` (e.g.
-        ``[("stretch", 4.0)]``); they are attached to every lattice. Default: whatever the lattices
-        carry (none for a fresh Lattice). "mode_energy" is not supported here.
+        ``[("stretch", 4.0)]``), for every orbit of this run (the lattices are not changed).
+        Default: none. "mode_energy" is not supported here.
     progress : bool
         A progress bar with ETA (the same computation in 100 segments).
     blowup_stretch : float, optional
@@ -108,55 +113,41 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     n_dev = _int(n_dev, "n_dev")
     if n_dev < 1:
         raise ValueError(f"n_dev must be >= 1 (got {n_dev})")
-    events = event_set(criteria)   # kept alive until the batch is created (C copies it)
+    events = criteria_events(criteria)      # bad criteria raise here
     y = _states(y0, "y0", R, (2 * N,), lambda r: lattices[r].mode_state())
-    w = ffi.NULL
-    if w0 is not None:
-        w_arr = _states(w0, "w0", R, (n_dev, 2 * N), None)
-        w = ptr(w_arr)
-    io = ffi.new("fpl_integrator_options *")
-    lib.fpl_integrator_options_init(io)
-    io.dt = 0.01 if dt is None else _real(dt, "dt")
-    io.events = events
-    bo = ffi.new("fpl_chaos_batch_options *")
-    lib.fpl_chaos_batch_options_init(bo)
-    bo.chaos.t_end = _real(t_end, "t_end")
-    bo.chaos.renorm_interval = _real(renorm_interval, "renorm_interval")
-    bo.chaos.n_samples = _int(n_samples, "n_samples")
-    bo.chaos.t_first_sample = _real(t_first_sample, "t_first_sample")
-    bo.chaos.n_dev = n_dev
-    bo.chaos.sali_threshold = _real(sali_threshold, "sali_threshold")
-    bo.chaos.stop_when_chaotic = bool(stop_when_chaotic)
+    w = None if w0 is None else _states(w0, "w0", R, (n_dev, 2 * N), None)
+    io = ll.integrator_options(ll.DT if dt is None else _real(dt, "dt"))
     seed = _int(seed, "seed")
     if seed < 0:
         raise ValueError(f"seed must be >= 0 (got {seed})")
-    bo.chaos.seed = seed
+    co = {"renorm_interval": _real(renorm_interval, "renorm_interval"),
+          "n_samples": _int(n_samples, "n_samples"),
+          "t_first_sample": _real(t_first_sample, "t_first_sample"), "n_dev": n_dev,
+          "sali_threshold": _real(sali_threshold, "sali_threshold"),
+          "stop_when_chaotic": bool(stop_when_chaotic), "seed": seed}
     if blowup_stretch is not None:
-        bo.chaos.blowup_stretch = _real(blowup_stretch, "blowup_stretch")
+        co["blowup_stretch"] = _real(blowup_stretch, "blowup_stretch")
+    bo = ll.chaos_batch_options(_real(t_end, "t_end"), **co)
     t0 = _real(t0, "t0")
-    handles = ffi.new("fpl_lattice *[]", [lat._h for lat in lattices])
-    out = ffi.new("fpl_chaos_batch **")
-    check(lib.fpl_chaos_batch_create(handles, R, method.encode(), io, t0, ptr(y), w, bo, out))
-    batch = ffi.gc(out[0], lambda h: lib.fpl_chaos_batch_free(ffi.new("fpl_chaos_batch **", h)))
+    batch = ll.ChaosBatchHandle([lat._h for lat in lattices], method, io, t0, y, w, bo, events)
     S = max(bo.chaos.n_samples, 1)
     t, mle, sali, gali = (np.full((R, S), np.nan) for _ in range(4))
-    arrays = [ptr(a) for a in (t, mle, sali, gali)]
     span = bo.chaos.t_end - t0
     if progress:
         from tqdm.auto import tqdm
         with tqdm(total=span, desc=f"chaos batch R={R} N={N}", unit="t", disable=None,
                   bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
             for k in range(1, 101):
-                check(lib.fpl_chaos_batch_advance(batch, t0 + span * k / 100, *arrays))
-                bar.update(lib.fpl_chaos_batch_time(batch) - t0 - bar.n)
-                if lib.fpl_chaos_batch_done(batch):
+                batch.advance(t0 + span * k / 100, t, mle, sali, gali)
+                bar.update(batch.time() - t0 - bar.n)
+                if batch.done():
                     break
     else:
-        check(lib.fpl_chaos_batch_advance(batch, bo.chaos.t_end, *arrays))
+        batch.advance(bo.chaos.t_end, t, mle, sali, gali)
     results = []
-    res = ffi.new("fpl_chaos_batch_result *")
+    res = None
     for r, lat in enumerate(lattices):
-        check(lib.fpl_chaos_batch_get_result(batch, r, res))
+        res = batch.get_result(r, res)
         k = res.n_samples
         blew_up = bool(res.blew_up)
         params = {"N": N, "model": lat.model, "tau": lat.tau, "seed": lat.seed, "t_end": t_end,
@@ -169,7 +160,7 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
                   "gali": gali[r, :k].copy(), "chaotic": bool(res.chaotic),
                   "t_chaotic": res.t_chaotic, "t_final": res.t_final, "steps": res.steps,
                   "method": method, "completed": not blew_up,
-                  "message": ffi.string(lib.fpl_chaos_batch_message(batch, r)).decode(),
+                  "message": batch.message(r),
                   "params": params}
         # fields the single-orbit result may gain (blow-up bookkeeping) are filled if present
         names = {f.name for f in dataclasses.fields(ChaosResult)}

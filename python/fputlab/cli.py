@@ -12,6 +12,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._display import dumps_strict
+
 
 def _lattice(a):
     from .lattice import Lattice
@@ -19,31 +21,6 @@ def _lattice(a):
         _homogeneous_check(a)
         return Lattice(a.N, a.alpha, a.model, beta=a.beta)
     return Lattice(a.N, a.alpha, a.model, beta=a.beta, tau=a.tau, seed=a.seed, disorder=a.disorder)
-
-
-def _json_safe(x):
-    """x with numpy scalars/arrays as Python numbers/lists and non-finite floats as None, so that
-    the output is strict JSON (RFC 8259 has no NaN or Infinity)."""
-    if isinstance(x, dict):
-        return {str(k): _json_safe(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_json_safe(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _json_safe(x.tolist())
-    if isinstance(x, (bool, np.bool_)):
-        return bool(x)
-    if isinstance(x, (int, np.integer)):
-        return int(x)
-    if isinstance(x, (float, np.floating)):
-        return float(x) if math.isfinite(x) else None
-    if x is None or isinstance(x, str):
-        return x
-    return str(x)
-
-
-def dumps_strict(obj, **kw) -> str:
-    """json.dumps of _json_safe(obj); never writes NaN/Infinity."""
-    return json.dumps(_json_safe(obj), allow_nan=False, **kw)
 
 
 def _homogeneous_check(a):
@@ -241,8 +218,8 @@ def cmd_blowup(a):
                               "N": a.N[0] if len(a.N) == 1 else np.asarray(a.N)},
                       {"tau": out["tau"], "probability": out["probability"], "records": rec})
         if a.plot:
-            from .blowup import plot_sweep
-            plot_sweep(out, a.plot)
+            from .plotting import plot_blowup_sweep_figure
+            plot_blowup_sweep_figure(out, a.plot)
             summary["plot"] = a.plot
         _emit(summary, a.json)
         return 0

@@ -66,7 +66,7 @@ def main(argv=None) -> int:
     ax_b.set_title(f"(b) $E_1..E_4$, E = {summary['E']:.5f}, α = {args.alpha:g}")
     fig.savefig(args.out, dpi=120)
     if args.json:
-        from .cli import dumps_strict
+        from ._display import dumps_strict
         print(dumps_strict(summary, indent=2))
     else:
         print(f"FPUT recurrence, N = {args.N}, alpha = {args.alpha:g}, E = {summary['E']:.5f}: "

@@ -3,52 +3,23 @@ deviation vectors, sampled without storing the trajectory."""
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import Iterator
 
 import numpy as np
 
-from ._arrays import as_float_array, check_memory, ptr
-from ._errors import FputlabError, IntegrationError, check
-from ._native import ffi, lib
-from .lattice import C_LONG, Lattice, _int, _real
-
-
-#: criterion names -> C kinds
-CRITERIA = {
-    "energy": lib.FPL_EVENT_ENERGY,
-    "displacement": lib.FPL_EVENT_MAX_DISPLACEMENT,
-    "stretch": lib.FPL_EVENT_MAX_STRETCH,
-    "mode_energy": lib.FPL_EVENT_MODE_ENERGY,
-}
-
-
-def event_set(criteria):
-    """A C ``fpl_event_set *`` for criteria [(name, threshold) or ("mode_energy", threshold, k)],
-    or ffi.NULL for None or []. The set is an option of a run (``fpl_integrator_options.events``);
-    the C library checks thresholds and modes when the run is created."""
-    criteria = list(criteria or [])
-    if not criteria:
-        return ffi.NULL
-    if len(criteria) > 8:
-        raise ValueError(f"criteria: at most 8 (got {len(criteria)})")
-    ev = ffi.new("fpl_event_set *")
-    for i, c in enumerate(criteria):
-        if not isinstance(c, (tuple, list)) or len(c) not in (2, 3):
-            raise TypeError(f"criteria[{i}] must be (name, threshold) or ('mode_energy', threshold, k)")
-        name = c[0]
-        if name not in CRITERIA:
-            raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
-        ev.kind[i] = CRITERIA[name]
-        ev.threshold[i] = _real(c[1], f"criteria[{i}] threshold")
-        ev.mode[i] = _int(c[2], f"criteria[{i}] mode k") if len(c) == 3 else 0
-    ev.n = len(criteria)
-    return ev
+from . import _lowlevel as ll
+from ._arrays import as_float_array, check_memory
+from ._errors import FputlabError, IntegrationError, Interrupted
+from ._pacing import Pacer, first_span
+from ._validate import C_LONG, _int, _real
+from .lattice import Lattice
 
 
 def methods() -> list[str]:
     """Names of all integration methods."""
-    return [ffi.string(lib.fpl_method_name(i)).decode() for i in range(lib.fpl_method_count())]
+    return ll.method_names()
 
 
 def method_info(method: str) -> dict:
@@ -57,9 +28,33 @@ def method_info(method: str) -> dict:
         raise TypeError(f"method must be a string, got {type(method).__name__}")
     if "\x00" in method:
         raise ValueError(f"method {method!r} is unknown (it contains a NUL character)")
-    order, adaptive = ffi.new("int *"), ffi.new("int *")
-    check(lib.fpl_method_info(method.encode(), order, adaptive))
-    return {"order": order[0], "adaptive": bool(adaptive[0])}
+    order, adaptive = ll.method_info(method)
+    return {"order": order, "adaptive": adaptive}
+
+
+#: stopping-criterion names -> C kinds (the criteria of `stop_on` and `fputlab.blowup`)
+CRITERIA = dict(ll.EVENT_KINDS)
+
+
+def criteria_events(criteria):
+    """The C event set of stopping criteria [(name, threshold) or ("mode_energy", threshold, k)]
+    (None for None or []), each checked and named by its position. Criteria belong to a run
+    (`Integrator(criteria=...)`), never to the lattice, so one lattice serves many runs."""
+    criteria = list(criteria or [])
+    if not criteria:
+        return None
+    if len(criteria) > ll.MAX_EVENTS:
+        raise ValueError(f"criteria: at most {ll.MAX_EVENTS} (got {len(criteria)})")
+    events = []
+    for i, c in enumerate(criteria):
+        if not isinstance(c, (tuple, list)) or len(c) not in (2, 3):
+            raise TypeError(f"criteria[{i}] must be (name, threshold) or ('mode_energy', threshold, k)")
+        name = c[0]
+        if name not in CRITERIA:
+            raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
+        events.append((CRITERIA[name], _real(c[1], f"criteria[{i}] threshold"),
+                       _int(c[2], f"criteria[{i}] mode k") if len(c) == 3 else 0))
+    return ll.event_set(events)
 
 
 class Integrator:
@@ -85,79 +80,65 @@ class Integrator:
     max_steps : int, optional
         Most steps per call of an adaptive back end (0: its default).
     criteria : list of tuple, optional
-        Stopping criteria of this run, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`).
+        Stopping criteria of this run, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`):
+        when one fires, `advance` stops at the event and `event` says which and when.
     """
 
     def __init__(self, lattice: Lattice, y0, *, method: str = "yoshida4", t0: float = 0.0,
-                 dt: float | None = None, rtol: float = 1e-10, atol: float = 1e-12,
-                 max_steps: int = 0, criteria=None):
+                 dt: float | None = None, rtol: float = ll.RTOL, atol: float = ll.ATOL,
+                 max_steps: int = ll.MAX_STEPS, criteria=None):
         if not isinstance(lattice, Lattice):
             raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
         info = method_info(method)
         y, n_dev = lattice._state(y0, "y0")
         self.lattice, self.method, self.n_dev = lattice, method, n_dev
         self.adaptive = info["adaptive"]
-        opt = ffi.new("fpl_integrator_options *")
-        lib.fpl_integrator_options_init(opt)
-        if dt is not None:
-            opt.dt = _real(dt, "dt")
-        elif self.adaptive:
-            opt.dt = 0.0
-        opt.rtol, opt.atol = _real(rtol, "rtol"), _real(atol, "atol")
-        opt.max_steps = _int(max_steps, "max_steps", C_LONG)
-        events = event_set(criteria)   # alive until fpl_integrator_create has copied it
-        opt.events = events
+        # no dt: the C default for fixed-step methods, 0 (the back end's choice) for adaptive ones
+        step = _real(dt, "dt") if dt is not None else 0.0 if self.adaptive else ll.DT
+        opt = ll.integrator_options(step, _real(rtol, "rtol"), _real(atol, "atol"),
+                                    _int(max_steps, "max_steps", C_LONG))
         self.dt = opt.dt
-        out = ffi.new("fpl_integrator **")
-        check(lib.fpl_integrator_create(lattice._h, method.encode(), n_dev, opt,
-                                        _real(t0, "t0"), ptr(y), out))
-        self._h = ffi.gc(out[0], lambda h: lib.fpl_integrator_free(ffi.new("fpl_integrator **", h)))
+        self._h = ll.IntegratorHandle(lattice._h, method, n_dev, opt, _real(t0, "t0"), y,
+                                      criteria_events(criteria))
         self._shape = (1 + n_dev, 2 * lattice.N)
-
-    def _check(self, status: int) -> int:
-        # fpl_last_error() holds the failing call's message (also on the handle)
-        return check(status)
 
     @property
     def t(self) -> float:
         """Time of the internal state (fixed-step: the last grid point reached)."""
-        return lib.fpl_integrator_time(self._h)
+        return self._h.time()
 
     @property
     def state(self) -> np.ndarray:
         """Internal state, shape (1 + n_dev, 2N)."""
-        y = np.empty(self._shape)
-        check(lib.fpl_integrator_get_state(self._h, ptr(y)))
-        return y
+        return self._h.get_state()
 
     @property
     def counters(self) -> dict:
-        s, f = ffi.new("long *"), ffi.new("long *")
-        lib.fpl_integrator_counters(self._h, s, f)
-        return {"steps": s[0], "force_evals": f[0]}
+        steps, force_evals = self._h.counters()
+        return {"steps": steps, "force_evals": force_evals}
 
     @property
     def steps(self) -> int:
         """Internal step count (a checkpoint keeps it with `t` and `state`)."""
-        return int(lib.fpl_integrator_steps(self._h))
+        return self._h.steps()
 
     def restore(self, steps: int, t: float, state) -> None:
         """Continue from a checkpoint (steps, t, state) of an integrator made with the same
         lattice, method, options and t0: bit-for-bit for fixed-step methods."""
         y = as_float_array(state, "state", self._shape)
-        self._check(lib.fpl_integrator_restore(self._h, _int(steps, "steps", C_LONG), _real(t, "t"), ptr(y)))
+        self._h.restore(_int(steps, "steps", C_LONG), _real(t, "t"), y)
 
     def advance(self, t: float) -> np.ndarray:
         """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
         y = np.empty(self._shape)
-        self._check(lib.fpl_integrator_advance(self._h, _real(t, "t"), ptr(y)))
+        self._h.advance(_real(t, "t"), y)
         return y
 
     def transform_deviations(self, m) -> None:
         """w_i <- sum_j m[i, j] w_j (renormalisation, Gram-Schmidt)."""
         m = as_float_array(m, "m", (self.n_dev, self.n_dev))
         if self.n_dev:
-            self._check(lib.fpl_integrator_transform_deviations(self._h, ptr(m)))
+            self._h.transform_deviations(m)
 
     def sample(self, times, *, states: bool = False, mode_energies: bool = True,
                energies: bool = True):
@@ -170,27 +151,23 @@ class Integrator:
         st = np.empty((S,) + self._shape) if states else None
         ek = np.empty((S, N)) if mode_energies else None
         en = np.empty(S) if energies else None
-        done = ffi.new("int *")
-        nul = lambda a: ptr(a) if a is not None and S else ffi.NULL
-        status = lib.fpl_integrator_sample(self._h, nul(ts), S, nul(st), nul(ek), nul(en), done)
-        self.last_status = status
-        k = done[0]
-        cut = lambda a: None if a is None else a[:k]
+        cut = lambda a, k: None if a is None else a[:k]
         try:
-            self._check(status)
+            self.last_status, k = self._h.sample(ts, st, ek, en)
         except FputlabError as err:   # NaN/Inf, or a back end (CVODE, GSL) giving up at a blow-up
-            err.partial = (k, cut(st), cut(ek), cut(en))
+            self.last_status, k = err.status, err.done
+            err.partial = (k, cut(st, k), cut(ek, k), cut(en, k))
             raise
         return k, st, ek, en
 
     @property
     def event(self) -> dict | None:
         """{'time', 'criterion', 'index'} if a stopping criterion stopped the integrator."""
-        index, t = ffi.new("int *"), ffi.new("double *")
-        if not lib.fpl_integrator_event(self._h, index, t):
+        fired = self._h.event()
+        if fired is None:
             return None
-        return {"time": t[0], "index": index[0], "criterion": ffi.string(
-            lib.fpl_integrator_event_describe(self._h, index[0])).decode()}
+        index, t = fired
+        return {"time": t, "index": index, "criterion": self._h.event_describe(index)}
 
 
 @dataclass
@@ -304,7 +281,7 @@ def _sample_times(t0, t_end, sample_every, times):
 
 
 def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
-              rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
+              rtol: float = ll.RTOL, atol: float = ll.ATOL, sample_every: float | None = None,
               times=None, y0=None, deviations=None, t0: float = 0.0, store_states: bool = False,
               stop_on=None, chunk: int = 4096, on_failure: str = "raise",
               progress: bool = False) -> Run:
@@ -386,7 +363,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         if not (math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be finite and > 0 (got {dt:g})")
     elif not method_info(method)["adaptive"]:
-        dt = 0.01
+        dt = ll.DT
     N = lattice.N
     fixed_step = dt is not None and not method_info(method)["adaptive"]
     if fixed_step:
@@ -420,21 +397,18 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
             raise ValueError(f"dt = {dt:g} is larger than the sample spacing {small.min():g}: a "
                              "fixed-step method only reaches multiples of dt (use a smaller dt or "
                              "sample less often)")
-    event_set(stop_on)             # bad criteria raise here, before anything runs
+    criteria_events(stop_on)       # bad criteria raise here, before anything runs
     return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
                       chunk, on_failure, progress, stop_on)
 
 
 def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
                on_failure, progress=False, criteria=None):
-    import time
-
-    from ._errors import Interrupted, Pacer, first_span
     N = lattice.N
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol,
                        criteria=criteria)
     parts = {"t": [], "ek": [], "en": [], "st": []}
-    message, completed, status = "", True, lib.FPL_ERR_NONFINITE
+    message, completed, status = "", True, ll.ERR_NONFINITE
     bar = None
     if progress:
         from tqdm.auto import tqdm
@@ -480,7 +454,7 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
             if bar is not None and k:
                 bar.update(float(block[k - 1] - t0) - bar.n)
             start = stop
-            if not completed or integ.last_status == lib.FPL_EVENT:
+            if not completed or integ.last_status == ll.EVENT:
                 break
     except FputlabError as err:          # NaN/Inf or a back end giving up between samples
         completed, message, status = False, str(err), err.status
@@ -506,9 +480,70 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
     return run
 
 
+def _lattice_integrate(self: Lattice, t_end: float, *, method: str = "yoshida4",
+                       dt: float | None = None, rtol: float = ll.RTOL, atol: float = ll.ATOL,
+                       sample_every: float | None = None, times=None, y0=None, deviations=None,
+                       t0: float = 0.0, store_states: bool = False, stop_on=None,
+                       chunk: int = 4096, on_failure: str = "raise",
+                       progress: bool = False) -> Run:
+    """Integrate this lattice: ``fputlab.integrate(self, t_end, ...)``.
+
+    Parameters
+    ----------
+    t_end : float
+        Final time (finite, >= `t0`).
+    method : str, optional
+        Integrator name (`fputlab.methods()`); default "yoshida4", the paper's.
+    dt : float, optional
+        Step of the fixed-step methods (default 0.01); an initial step for adaptive ones.
+    rtol, atol : float, optional
+        Tolerances of the adaptive methods.
+    sample_every : float, optional
+        Sampling interval (default: (t_end - t0)/1000). Exclusive with `times`.
+    times : array_like, optional
+        Explicit increasing sample times.
+    y0 : array_like, optional
+        Initial state [x, p], length 2N (default: the paper's mode-1 state, Eq. initxi).
+    deviations : array_like, optional
+        Initial deviation vectors, shape (k, 2N).
+    t0 : float, optional
+        Initial time.
+    store_states : bool, optional
+        Keep the full state at every sample.
+    stop_on : list of tuple, optional
+        Stopping criteria, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`).
+    chunk : int, optional
+        Samples computed per call into the C library.
+    on_failure : {"raise", "return"}, optional
+        What a blow-up (NaN/Inf state) does: raise `IntegrationError` or return the finite
+        samples with ``completed=False``.
+    progress : bool, optional
+        A progress bar with ETA (tqdm.auto).
+
+    Returns
+    -------
+    Run
+
+    See Also
+    --------
+    fputlab.integrate : the same, with the details of every parameter.
+    """
+    return integrate(self, t_end, method=method, dt=dt, rtol=rtol, atol=atol,
+                     sample_every=sample_every, times=times, y0=y0, deviations=deviations,
+                     t0=t0, store_states=store_states, stop_on=stop_on, chunk=chunk,
+                     on_failure=on_failure, progress=progress)
+
+
+# The convenience method of the model layer's Lattice, defined here so that fputlab.lattice
+# never imports this module (the layers import downwards only).
+_lattice_integrate.__name__ = "integrate"
+_lattice_integrate.__qualname__ = "Lattice.integrate"
+Lattice.integrate = _lattice_integrate
+
+
 def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: str = "yoshida4",
-                 t0: float = 0.0, dt: float | None = None, rtol: float = 1e-10,
-                 atol: float = 1e-12) -> Iterator[tuple[float, np.ndarray]]:
+                 t0: float = 0.0, dt: float | None = None, rtol: float = ll.RTOL,
+                 atol: float = ll.ATOL) -> Iterator[tuple[float, np.ndarray]]:
     """Stream (t, state) pairs without keeping the trajectory.
 
     Parameters
@@ -542,7 +577,7 @@ def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: s
     state0 = orbit[None, :] if deviations is None else np.concatenate(
         [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
     if dt is None and not method_info(method)["adaptive"]:
-        dt = 0.01
+        dt = ll.DT
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
     for t in as_float_array(times, "times"):
         yield float(t), integ.advance(t)

@@ -1,26 +1,22 @@
 """The lattice: N particles with fixed ends, one of three models, and its evaluation API."""
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np
 
-from ._arrays import as_float_array, ptr
-from ._errors import check
-from ._native import ffi, lib
+from . import _lowlevel as ll
+from ._arrays import as_float_array, check_memory
+from ._validate import C_INT, C_LONG, C_U64, _int, _real  # noqa: F401 (C_INT, C_LONG: public here)
+from .modes import omega as _omega
 
 #: model names (and the paper's equations) -> C model codes
 MODELS = {
-    "homogeneous": lib.FPL_MODEL_HOMOGENEOUS,   # Eqs. (Hamilt), (eqnmotions)
-    "hamiltonian": lib.FPL_MODEL_HAMILTONIAN,   # Eqs. (dis1), (Hamilt2mod): v in both couplings
-    "nonlinear": lib.FPL_MODEL_NONLINEAR,       # Eq. (varnonlin): v in the nonlinear terms only
+    "homogeneous": ll.MODEL_CODES["homogeneous"],   # Eqs. (Hamilt), (eqnmotions)
+    "hamiltonian": ll.MODEL_CODES["hamiltonian"],   # Eqs. (dis1), (Hamilt2mod): v in both couplings
+    "nonlinear": ll.MODEL_CODES["nonlinear"],       # Eq. (varnonlin): v in the nonlinear terms only
 }
-DISORDERS = {
-    "gaussian": lib.FPL_DISORDER_GAUSSIAN,
-    "truncated": lib.FPL_DISORDER_TRUNCATED_GAUSSIAN,
-    "uniform": lib.FPL_DISORDER_UNIFORM,
-}
+DISORDERS = dict(ll.DISORDER_CODES)
 
 
 def _model_code(model) -> int:
@@ -33,30 +29,6 @@ def _model_code(model) -> int:
             raise ValueError(f"model {model} is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)")
         return int(model)
     raise TypeError(f"model must be a name or 1, 2, 3, got {type(model).__name__}")
-
-
-def _real(value, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    return float(value)
-
-
-#: ranges of C integer parameters
-C_INT = (-2**31, 2**31 - 1)
-C_LONG = (-2**63, 2**63 - 1)
-C_U64 = (-2**63, 2**64 - 1)     # seeds (negative values get their own "must be >= 0" errors)
-
-
-def _int(value, name: str, bounds: tuple = C_INT) -> int:
-    """An integer parameter, checked against the range of the C type it goes to (int by
-    default): out of range is a ValueError naming it, not cffi's anonymous OverflowError."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    value = int(value)
-    lo, hi = bounds
-    if not lo <= value <= hi:
-        raise ValueError(f"{name} = {value} is out of range (it must lie in [{lo}, {hi}])")
-    return value
 
 
 #: parameters a Lattice is built from: fixed once built (the C lattice holds copies)
@@ -77,10 +49,7 @@ def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.n
         raise ValueError(f"seed must be in [0, 2**64), got {seed}")
     if kind not in DISORDERS:
         raise ValueError(f"disorder {kind!r} is unknown (known: {', '.join(DISORDERS)})")
-    v = np.empty(max(N, 0))
-    check(lib.fpl_disorder_draw(DISORDERS[kind], _real(tau, "tau"), seed, N,
-                                ptr(v) if N > 0 else ffi.NULL))
-    return v
+    return ll.disorder_draw(DISORDERS[kind], _real(tau, "tau"), seed, N)
 
 
 class Lattice:
@@ -125,7 +94,7 @@ class Lattice:
         self.alpha = _real(alpha, "alpha")
         self.beta = _real(beta, "beta")
         self.model_code = _model_code(model)
-        self.model = ffi.string(lib.fpl_model_name(self.model_code)).decode()
+        self.model = ll.model_name(self.model_code)
         self.tau = _real(tau, "tau")
         if not isinstance(disorder, str):
             raise TypeError(f"disorder must be a string, got {type(disorder).__name__}")
@@ -134,7 +103,6 @@ class Lattice:
         self.disorder = disorder
         if self.N < 2:
             raise ValueError(f"N must be >= 2 (got {self.N})")
-        from ._arrays import check_memory
         check_memory(_BYTES_PER_SITE * self.N, f"a lattice of N = {self.N}")
         if v is not None:
             if self.tau != 0.0 or seed is not None:
@@ -142,7 +110,7 @@ class Lattice:
             self.seed = None
             v_arr = as_float_array(v, "v", (self.N,))
         elif self.tau != 0.0 or seed is not None:
-            if self.model_code == lib.FPL_MODEL_HOMOGENEOUS and self.tau != 0.0:
+            if self.model_code == MODELS["homogeneous"] and self.tau != 0.0:
                 raise ValueError("tau: the homogeneous model has no disorder; "
                                  "use model='hamiltonian' or 'nonlinear'")
             self.seed = (int.from_bytes(os.urandom(4), "little") if seed is None
@@ -151,9 +119,7 @@ class Lattice:
         else:
             self.seed = None
             v_arr = np.ones(self.N)
-        out = ffi.new("fpl_lattice **")
-        check(lib.fpl_lattice_create(self.N, self.alpha, self.beta, self.model_code, ptr(v_arr), out))
-        self._h = ffi.gc(out[0], lambda h: lib.fpl_lattice_free(ffi.new("fpl_lattice **", h)))
+        self._h = ll.LatticeHandle(self.N, self.alpha, self.beta, self.model_code, v_arr)
         self._built = True
 
     def __setattr__(self, name, value):
@@ -171,15 +137,12 @@ class Lattice:
     @property
     def v(self) -> np.ndarray:
         """The variability v_j (a copy)."""
-        v = np.empty(self.N)
-        check(lib.fpl_lattice_get_v(self._h, ptr(v), self.N))
-        return v
+        return self._h.get_v()
 
     @property
     def omega(self) -> np.ndarray:
         """Normal-mode frequencies omega_k = 2 sin(k pi / (2(N+1))), k = 1..N."""
-        from .modes import omega
-        return omega(self.N)
+        return _omega(self.N)
 
     def __repr__(self) -> str:
         dis = f", tau={self.tau:g}, seed={self.seed}" if self.seed is not None else ""
@@ -187,9 +150,6 @@ class Lattice:
                 f"{', beta=%g' % self.beta if self.beta else ''}{dis})")
 
     # -- helpers ------------------------------------------------------------------------------
-    def _check(self, status: int) -> int:
-        return check(status, self._h)
-
     def _state(self, y, name="y"):
         """(array (1+k, 2N), k) from a flat or 2-D state with k deviation vectors."""
         arr = as_float_array(y, name)
@@ -205,15 +165,12 @@ class Lattice:
     def force(self, x) -> np.ndarray:
         """F(x) = p' (length N)."""
         x = as_float_array(x, "x", (self.N,))
-        f = np.empty(self.N)
-        self._check(lib.fpl_lattice_force(self._h, ptr(x), ptr(f)))
-        return f
+        return self._h.force(x)
 
     def force_jacobian(self, x, dense: bool = False):
         """dF/dx at x: (lower, diag, upper) of the tridiagonal, or the dense N x N matrix."""
         x = as_float_array(x, "x", (self.N,))
-        lo, di, up = np.zeros(self.N), np.empty(self.N), np.zeros(self.N)
-        self._check(lib.fpl_lattice_force_jacobian(self._h, ptr(x), ptr(lo), ptr(di), ptr(up)))
+        lo, di, up = self._h.force_jacobian(x)
         lo, up = lo[:-1].copy(), up[:-1].copy()
         if not dense:
             return lo, di, up
@@ -228,24 +185,19 @@ class Lattice:
         k = 1 if dx.ndim == 1 else dx.shape[0]
         out = np.empty_like(dx)
         if k:
-            self._check(lib.fpl_lattice_tangent_force(self._h, ptr(x), k, ptr(dx), ptr(out)))
+            self._h.tangent_force(x, k, dx, out)
         return out
 
     def rhs(self, y) -> np.ndarray:
         """y' of the first-order system (with the variational equations for deviation vectors);
         same shape as y."""
         arr, k = self._state(y)
-        out = np.empty_like(arr)
-        self._check(lib.fpl_lattice_rhs(self._h, ptr(arr), k, ptr(out)))
-        return out.reshape(np.shape(y))
+        return self._h.rhs(arr, k).reshape(np.shape(y))
 
     def jacobian(self, y) -> np.ndarray:
         """Dense Jacobian of the first-order system at y (with deviation vectors if present)."""
         arr, k = self._state(y)
-        dim = arr.size
-        jac = np.empty((dim, dim))
-        self._check(lib.fpl_lattice_jacobian_dense(self._h, ptr(arr), k, ptr(jac)))
-        return jac
+        return self._h.jacobian_dense(arr, k)
 
     def energy(self, y) -> float | np.ndarray:
         """H for models 1-2; for model 3 the energy of Eq. (Hamilt) (not conserved). y of shape
@@ -253,18 +205,14 @@ class Lattice:
         arr = as_float_array(y, "y", last=2 * self.N)
         flat = arr.reshape(-1, 2 * self.N)
         out = np.empty(flat.shape[0])
-        e = ffi.new("double *")
         for i, row in enumerate(flat):
-            self._check(lib.fpl_lattice_energy(self._h, ptr(row), e))
-            out[i] = e[0]
+            out[i] = self._h.energy(row)
         return float(out[0]) if arr.ndim == 1 else out.reshape(arr.shape[:-1])
 
     def velocity(self, y) -> np.ndarray:
         """x' = p/m from a state (2N,)."""
         arr = as_float_array(y, "y", (2 * self.N,))
-        out = np.empty(self.N)
-        self._check(lib.fpl_lattice_velocity(self._h, ptr(arr), ptr(out)))
-        return out
+        return self._h.velocity(arr)
 
     # -- modes --------------------------------------------------------------------------------
     def to_modes(self, x) -> np.ndarray:
@@ -273,7 +221,7 @@ class Lattice:
         flat = arr.reshape(-1, self.N)
         out = np.empty_like(flat)
         for i in range(flat.shape[0]):
-            self._check(lib.fpl_modes_transform(self._h, ptr(flat[i]), ptr(out[i])))
+            self._h.modes_transform(flat[i], out[i])
         return out.reshape(arr.shape)
 
     from_modes = to_modes
@@ -284,70 +232,16 @@ class Lattice:
         flat = arr.reshape(-1, 2 * self.N)
         out = np.empty((flat.shape[0], self.N))
         for i in range(flat.shape[0]):
-            self._check(lib.fpl_modes_energies(self._h, ptr(flat[i]), ptr(out[i])))
+            self._h.modes_energies(flat[i], out[i])
         return out.reshape(arr.shape[:-1] + (self.N,))
 
     def mode_state(self, k: int = 1, amplitude: float = 1.0, coupled: bool = False) -> np.ndarray:
         """Single-mode state: x_j = amplitude sin(pi k j/(N+1)), p = 0 (paper Eq. initxi for k = 1,
         amplitude 1). coupled=True puts the sine in v_j x_j instead (model 2's smooth mode)."""
-        y = np.empty(2 * self.N)
-        fn = lib.fpl_modes_initial_state_coupled if coupled else lib.fpl_modes_initial_state
-        self._check(fn(self._h, _int(k, "k"), _real(amplitude, "amplitude"), ptr(y)))
-        return y
+        return self._h.initial_state(_int(k, "k"), _real(amplitude, "amplitude"), bool(coupled))
 
-    # -- integration --------------------------------------------------------------------------
-    def integrate(self, t_end: float, *, method: str = "yoshida4", dt: float | None = None,
-                  rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
-                  times=None, y0=None, deviations=None, t0: float = 0.0,
-                  store_states: bool = False, stop_on=None, chunk: int = 4096,
-                  on_failure: str = "raise", progress: bool = False):
-        """Integrate this lattice: ``fputlab.integrate(self, t_end, ...)``.
-
-        Parameters
-        ----------
-        t_end : float
-            Final time (finite, >= `t0`).
-        method : str, optional
-            Integrator name (`fputlab.methods()`); default "yoshida4", the paper's.
-        dt : float, optional
-            Step of the fixed-step methods (default 0.01); an initial step for adaptive ones.
-        rtol, atol : float, optional
-            Tolerances of the adaptive methods.
-        sample_every : float, optional
-            Sampling interval (default: (t_end - t0)/1000). Exclusive with `times`.
-        times : array_like, optional
-            Explicit increasing sample times.
-        y0 : array_like, optional
-            Initial state [x, p], length 2N (default: the paper's mode-1 state, Eq. initxi).
-        deviations : array_like, optional
-            Initial deviation vectors, shape (k, 2N).
-        t0 : float, optional
-            Initial time.
-        store_states : bool, optional
-            Keep the full state at every sample.
-        stop_on : list of tuple, optional
-            Stopping criteria, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`).
-        chunk : int, optional
-            Samples computed per call into the C library.
-        on_failure : {"raise", "return"}, optional
-            What a blow-up (NaN/Inf state) does: raise `IntegrationError` or return the finite
-            samples with ``completed=False``.
-        progress : bool, optional
-            A progress bar with ETA (tqdm.auto).
-
-        Returns
-        -------
-        Run
-
-        See Also
-        --------
-        fputlab.integrate : the same, with the details of every parameter.
-        """
-        from .integrate import integrate
-        return integrate(self, t_end, method=method, dt=dt, rtol=rtol, atol=atol,
-                         sample_every=sample_every, times=times, y0=y0, deviations=deviations,
-                         t0=t0, store_states=store_states, stop_on=stop_on, chunk=chunk,
-                         on_failure=on_failure, progress=progress)
+    # -- integration: Lattice.integrate(t_end, ...) = fputlab.integrate(lattice, t_end, ...) is
+    # installed by fputlab.integrate, the layer above (the model does not import its integrators)
 
     def __reduce__(self):
         # Picklable for process pools: rebuilt from its parameters (v passed explicitly).

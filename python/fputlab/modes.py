@@ -3,16 +3,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._arrays import ptr
-from ._errors import check
-from ._native import lib
+from ._lowlevel import modes_omega
 
 
 def omega(N: int) -> np.ndarray:
     """omega_k = 2 sin(k pi / (2(N+1))), k = 1..N (paper Eq. wk)."""
-    out = np.empty(max(int(N), 1))
-    check(lib.fpl_modes_omega(int(N), ptr(out)))
-    return out
+    return modes_omega(int(N))
 
 
 def mode_matrix(N: int) -> np.ndarray:

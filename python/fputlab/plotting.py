@@ -1,20 +1,22 @@
 """Plots of what fputlab computes (matplotlib; nothing here opens a window or picks a backend).
 
-Every function draws into `ax` (a new figure's Axes when None) and returns that Axes, so plots
-compose: ``ax = plot_mle(results); plot_mle(other, ax=ax, colors="k")``. The paper's figures
+Every function but `plot_blowup_sweep_figure` (a whole figure) draws into `ax` (a new figure's
+Axes when None) and returns that Axes, so plots compose:
+``ax = plot_mle(results); plot_mle(other, ax=ax, colors="k")``. The paper's figures
 (`fputlab.figures`, `fputlab.figures_reduction`) are made with these functions.
 
-=======================  ===================================================================
-function                 plots
-=======================  ===================================================================
-plot_mode_energies       E_k(t) of a run (Figs. 1b, 2b/d, 3)
-plot_envelope            top view of the oscillation envelope max|x_j| (Figs. 1a, 2a/c)
-plot_mle                 finite-time mLE lambda(t) with the 1/t guide of regular orbits (Figs. 11-13)
-plot_sali                SALI(t) with the chaos threshold (Figs. 11-13)
-plot_two_mode            Q_1, Q_2 of the two-mode system with the envelope equations (Fig. 6)
-plot_blowup_sweep        probability of blow-up versus tau, or the blow-up times
-plot_bifurcation         regions of the (A~, B~) plane by their equilibria, and the curves (Fig. 7)
-=======================  ===================================================================
+========================  ============================================================================
+function                  plots
+========================  ============================================================================
+plot_mode_energies        E_k(t) of a run (Figs. 1b, 2b/d, 3)
+plot_envelope             top view of the oscillation envelope max|x_j| (Figs. 1a, 2a/c)
+plot_mle                  finite-time mLE lambda(t) with the 1/t guide of regular orbits (Figs. 11-13)
+plot_sali                 SALI(t) with the chaos threshold (Figs. 11-13)
+plot_two_mode             Q_1, Q_2 of the two-mode system with the envelope equations (Fig. 6)
+plot_blowup_sweep         probability of blow-up versus tau, or the blow-up times
+plot_blowup_sweep_figure  both panels of a blow-up sweep in one figure, optionally a PNG
+plot_bifurcation          regions of the (A~, B~) plane by their equilibria, and the curves (Fig. 7)
+========================  ============================================================================
 """
 from __future__ import annotations
 
@@ -350,6 +352,37 @@ BIFURCATION_REGIONS = {
     3: ("#d9ecc4", r"only $\Delta_1$ well defined"),
     4: ("#e0e0e0", "neither well defined"),
 }
+
+
+def plot_blowup_sweep_figure(sweep: dict, path=None):
+    """Both panels of a blow-up sweep in one figure: (a) the probability of blow-up before t_max
+    versus tau (one curve per N) with the reduction's prediction, (b) the distribution of
+    blow-up times (see `plot_blowup_sweep`).
+
+    Parameters
+    ----------
+    sweep : dict
+        The result of `fputlab.blowup.blowup_sweep`.
+    path : str or path-like, optional
+        Write the figure there as a PNG (110 dpi); then it is drawn without pyplot, so no
+        backend is chosen or needed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if path is None:
+        import matplotlib.pyplot as plt
+        fig = plt.figure(figsize=(12, 4.2), layout="constrained")
+    else:
+        from matplotlib.figure import Figure
+        fig = Figure(figsize=(12, 4.2), layout="constrained")
+    a, b = fig.subplots(1, 2)
+    plot_blowup_sweep(sweep, ax=a)
+    plot_blowup_sweep(sweep, ax=b, kind="times")
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
 
 
 def plot_bifurcation_curves(ax, A_range, r1sq: float):

@@ -37,10 +37,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ._arrays import ptr
-from ._errors import check, last_error
-from ._native import ffi, lib
+from . import _lowlevel as ll
+from ._engine import run_calls
+from ._errors import FputlabError, last_error
 from .chaos import ChaosResult
+from .chaos_batch import BATCH_METHODS
 from .integrate import method_info
 from .lattice import MODELS, Lattice
 
@@ -134,33 +135,24 @@ def _orbit_path(work: Path, N: int, seed: int) -> Path:
 def _handle(spec: StudySpec, N: int, seed: int):
     """(lattice, chaos handle, integrator handle) at t = 0 for one orbit of the study."""
     lat = Lattice(N, spec.alpha, spec.model, tau=spec.tau, seed=seed if spec.tau else None)
-    io = ffi.new("fpl_integrator_options *")
-    lib.fpl_integrator_options_init(io)
-    io.dt = 0.0 if method_info(spec.method)["adaptive"] else spec.dt
-    io.rtol, io.atol = spec.rtol, spec.atol
-    co = ffi.new("fpl_chaos_options *")
-    lib.fpl_chaos_options_init(co)
-    co.t_end, co.renorm_interval, co.n_samples = spec.t_end, spec.renorm_interval, spec.n_samples
-    co.sali_threshold, co.stop_when_chaotic = spec.sali_threshold, spec.stop_when_chaotic
-    y0 = lat.mode_state()
-    out = ffi.new("fpl_chaos **")
-    check(lib.fpl_chaos_create(lat._h, spec.method.encode(), io, 0.0, ptr(y0), ffi.NULL, co, out))
-    c = ffi.gc(out[0], lambda h: lib.fpl_chaos_free(ffi.new("fpl_chaos **", h)))
-    return lat, c, lib.fpl_chaos_integrator(c)
+    io = ll.integrator_options(0.0 if method_info(spec.method)["adaptive"] else spec.dt,
+                               spec.rtol, spec.atol)
+    co = ll.chaos_options(spec.t_end, renorm_interval=spec.renorm_interval,
+                          n_samples=spec.n_samples, sali_threshold=spec.sali_threshold,
+                          stop_when_chaotic=spec.stop_when_chaotic)
+    c = ll.ChaosHandle(lat._h, spec.method, io, 0.0, lat.mode_state(), None, co)
+    return lat, c, c.integrator()
 
 
 def _save(path: Path, spec_json: str, c, ih, arrays, message: str, wall: float,
           failed: bool) -> None:
     """The orbit's state file, written under a temporary name and renamed (never half-written)."""
-    n_acc = lib.FPL_CHAOS_N_ACCUMULATORS
-    acc = np.empty(n_acc)
-    check(lib.fpl_chaos_save(c, ptr(acc)))
-    state = np.empty(arrays["state_len"])
-    check(lib.fpl_integrator_get_state(ih, ptr(state)))
+    acc = c.save()
+    state = ih.get_state().reshape(arrays["state_len"])
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     with open(tmp, "wb") as f:
-        np.savez(f, spec=np.array(spec_json), steps=np.int64(lib.fpl_integrator_steps(ih)),
-                 t=np.float64(lib.fpl_integrator_time(ih)), state=state, acc=acc,
+        np.savez(f, spec=np.array(spec_json), steps=np.int64(ih.steps()),
+                 t=np.float64(ih.time()), state=state, acc=acc,
                  s_t=arrays["t"], s_mle=arrays["mle"], s_sali=arrays["sali"],
                  s_gali=arrays["gali"], message=np.array(message), wall=np.float64(wall),
                  failed=np.bool_(failed))
@@ -199,9 +191,9 @@ def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: s
     saved = _load(path, spec_json)
     message, wall = "", 0.0
     if saved is not None:
-        check(lib.fpl_integrator_restore(ih, int(saved["steps"]), float(saved["t"]),
-                                         ptr(np.ascontiguousarray(saved["state"], float))))
-        check(lib.fpl_chaos_restore(c, ptr(np.ascontiguousarray(saved["acc"], float))))
+        ih.restore(int(saved["steps"]), float(saved["t"]),
+                   np.ascontiguousarray(saved["state"], float))
+        c.restore(np.ascontiguousarray(saved["acc"], float))
         for k in ("t", "mle", "sali", "gali"):
             arrays[k][:] = saved["s_" + k]
         message, wall = str(saved["message"]), float(saved["wall"])
@@ -209,26 +201,24 @@ def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: s
     seg = spec.renorm_interval * max(1, round(2e4 / spec.renorm_interval))
     started = last_save = time.monotonic()
     cpu0 = time.process_time()
-    t_now = lib.fpl_integrator_time(ih)
+    t_now = ih.time()
     failed = bool(saved is not None and saved.get("failed", False))
-    while not failed and not lib.fpl_chaos_done(c) and t_now < t_until:
-        st = lib.fpl_chaos_advance(c, min(t_now + seg, t_until),
-                                   *(ptr(arrays[k]) for k in ("t", "mle", "sali", "gali")))
-        if st > 0:
-            message = last_error()              # a blow-up: when and why
-        elif st < 0:
-            message = last_error()              # a numerical failure: stop this orbit here
-            failed = True
-        t_now = lib.fpl_integrator_time(ih)
+    while not failed and not c.done() and t_now < t_until:
+        try:
+            if c.advance(min(t_now + seg, t_until),
+                         *(arrays[k] for k in ("t", "mle", "sali", "gali"))) > 0:
+                message = last_error()          # a blow-up: when and why
+        except (FputlabError, ValueError, MemoryError, OSError):
+            message, failed = last_error(), True    # a numerical failure: stop this orbit here
+        t_now = ih.time()
         if time.monotonic() - last_save > save_every:
             _save(path, spec_json, c, ih, arrays, message, wall + time.process_time() - cpu0,
                   failed)
             last_save = time.monotonic()
     wall += time.process_time() - cpu0
     _save(path, spec_json, c, ih, arrays, message, wall, failed)
-    res = ffi.new("fpl_chaos_result *")
-    check(lib.fpl_chaos_get_result(c, res))
-    done = bool(lib.fpl_chaos_done(c)) or failed
+    res = c.get_result()
+    done = c.done() or failed
     del lat
     return {"N": N, "seed": seed, "t": float(res.t_final if not res.blew_up else res.t_blowup),
             "done": done, "wall": wall, "elapsed": time.monotonic() - started}
@@ -279,27 +269,17 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
     R, S, k = len(seeds), spec.n_samples, 2
     lats = [Lattice(N, spec.alpha, spec.model, tau=spec.tau, seed=s if spec.tau else None)
             for s in seeds]
-    io = ffi.new("fpl_integrator_options *")
-    lib.fpl_integrator_options_init(io)
-    io.dt = spec.dt
-    bo = ffi.new("fpl_chaos_batch_options *")
-    lib.fpl_chaos_batch_options_init(bo)
-    c = bo.chaos                      # a view into bo
-    c.t_end, c.renorm_interval, c.n_samples = spec.t_end, spec.renorm_interval, S
-    c.sali_threshold, c.stop_when_chaotic = spec.sali_threshold, spec.stop_when_chaotic
+    io = ll.integrator_options(spec.dt)
+    bo = ll.chaos_batch_options(spec.t_end, renorm_interval=spec.renorm_interval, n_samples=S,
+                                sali_threshold=spec.sali_threshold,
+                                stop_when_chaotic=spec.stop_when_chaotic)
     y0 = np.ascontiguousarray(np.stack([lat.mode_state() for lat in lats]))
-    handles = ffi.new("fpl_lattice *[]", [lat._h for lat in lats])
-    out = ffi.new("fpl_chaos_batch **")
-    check(lib.fpl_chaos_batch_create(handles, R, spec.method.encode(), io, 0.0, ptr(y0),
-                                     ffi.NULL, bo, out))
-    b = ffi.gc(out[0], lambda h: lib.fpl_chaos_batch_free(ffi.new("fpl_chaos_batch **", h)))
+    b = ll.ChaosBatchHandle([lat._h for lat in lats], spec.method, io, 0.0, y0, None, bo)
     arrays = [np.full((R, S), np.nan) for _ in range(4)]
-    size = lib.fpl_chaos_batch_save_size(b)
     lane_len = 2 * N * (k + 1)
     walls = [0.0] * R
     if saved[0] is not None:          # into the lanes: the orbits' own accumulators and states
-        buf = np.empty(size)
-        check(lib.fpl_chaos_batch_save(b, ptr(buf)))      # the header of this batch
+        buf = b.save()                                    # the header of this batch
         steps = int(saved[0]["steps"])
         buf[4], buf[5], buf[6] = steps, saved[0]["acc"][0], R
         for r, d in enumerate(saved):
@@ -309,12 +289,11 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
             for a, name in zip(arrays, ("t", "mle", "sali", "gali")):
                 a[r] = d["s_" + name]
             walls[r] = float(d["wall"])
-        check(lib.fpl_chaos_batch_restore(b, ptr(buf), size))
+        b.restore(buf)
 
     def save(cpu):
-        buf = np.empty(size)
-        check(lib.fpl_chaos_batch_save(b, ptr(buf)))
-        t_batch = lib.fpl_chaos_batch_time(b)
+        buf = b.save()
+        t_batch = b.time()
         for r, s in enumerate(seeds):
             p = _BATCH_HEADER + r * (_LANE_ACC + lane_len)
             lane = buf[p:p + _LANE_ACC]
@@ -325,7 +304,7 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
             tmp_state = buf[p + _LANE_ACC:p + _LANE_ACC + lane_len]
             path = _orbit_path(work, N, s)
             tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-            msg = ffi.string(lib.fpl_chaos_batch_message(b, r)).decode()
+            msg = b.message(r)
             with open(tmp, "wb") as f:
                 np.savez(f, spec=np.array(spec_json), steps=np.int64(lane[14]),
                          t=np.float64(t_file), state=tmp_state, acc=acc,
@@ -339,19 +318,18 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
     seg = spec.renorm_interval * max(1, round(2e4 / spec.renorm_interval))
     cpu0 = time.process_time()
     last_save = time.monotonic()
-    t_now = lib.fpl_chaos_batch_time(b)
-    while not lib.fpl_chaos_batch_done(b) and t_now < t_until:
-        check(lib.fpl_chaos_batch_advance(b, min(t_now + seg, t_until),
-                                          *(ptr(a) for a in arrays)))
-        t_now = lib.fpl_chaos_batch_time(b)
+    t_now = b.time()
+    while not b.done() and t_now < t_until:
+        b.advance(min(t_now + seg, t_until), *arrays)
+        t_now = b.time()
         if time.monotonic() - last_save > save_every:
             save(time.process_time() - cpu0)
             last_save = time.monotonic()
     save(time.process_time() - cpu0)
-    res = ffi.new("fpl_chaos_batch_result *")
+    res = None
     summary = []
     for r, s in enumerate(seeds):
-        check(lib.fpl_chaos_batch_get_result(b, r, res))
+        res = b.get_result(r, res)
         summary.append({"N": N, "seed": s, "t": float(res.t_blowup if res.blew_up else
                                                       (t_now if not res.done else res.t_final)),
                         "done": bool(res.done)})
@@ -362,7 +340,6 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
 def _run_pieces(fn, calls, workers, scheduler):
     """Yield (call, result, error) for fn(*call) over a local process pool or a Dask cluster
     (fputlab.ensemble's engines)."""
-    from .ensemble import run_calls
     yield from run_calls(fn, calls, workers=workers, scheduler=scheduler)
 
 
@@ -459,7 +436,6 @@ class ChaosStudy:
         """(function, calls) advancing the orbits `todo` to h: with a batchable method the
         orbits of one N go together in the vector lanes, in groups of >= 4 (one per core),
         else one orbit per call."""
-        from .chaos_batch import BATCH_METHODS
         if not self.batched or self.spec.method not in BATCH_METHODS:
             return advance_orbit, [(self._json, N, seed, h, str(self.work), save_every)
                                    for N, seed, _ in todo]

@@ -75,7 +75,8 @@ def test_blowup_sweep_counts_realisations():
     for tau, N, seed, blew, t, tau_c in out["records"]:
         assert tau_c == pytest.approx(realisation_quadratics(32, 0.25, R=1, seed0=seed).critical_tolerances()[0])
     assert 0.0 <= out["prediction_accuracy"] <= 1.0
-    fig = blowup.plot_sweep(out)
+    from fputlab.plotting import plot_blowup_sweep_figure
+    fig = plot_blowup_sweep_figure(out)
     assert len(fig.axes) == 2 and fig.axes[1].get_title() == f"{sum(r[3] for r in out['records'])} of 6 runs blew up"
 
 

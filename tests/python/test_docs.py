@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 
 import fputlab
-from fputlab import analysis, blowup, chaos, ensemble, figures, figures_reduction, plotting, reduction
+from fputlab import (analysis, blowup, chaos, ensemble, figures, figures_reduction, io, plotting,
+                     reduction)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -26,7 +27,14 @@ MAIN = [fputlab.Lattice, fputlab.Lattice.integrate, fputlab.integrate, fputlab.I
         chaos.chaotic_fraction, analysis.recurrences, analysis.energy_share,
         analysis.spectral_entropy, analysis.effective_modes, analysis.normalised_entropy,
         ensemble.run_sweep, ensemble.load_sweep, ensemble.run_calls, ensemble.run_task,
-        ensemble.run_chaos_group, ensemble.check_ensemble, ensemble.process_pool]
+        ensemble.run_chaos_group, ensemble.check_ensemble, ensemble.process_pool,
+        plotting.plot_blowup_sweep_figure, io.simulate_to_file, io.chaos_to_file, io.load,
+        io.write_checkpoint, io.load_checkpoint, io.checkpoint_time, io.ResultsFile]
+# every public function of the reduction modules
+MAIN += [obj for mod in (reduction.coefficients, reduction.statistics, reduction.modal,
+                         reduction.envelope, reduction.reduced)
+         for name, obj in vars(mod).items()
+         if inspect.isfunction(obj) and not name.startswith("_") and obj.__module__ == mod.__name__]
 
 
 @pytest.mark.parametrize("obj", [chaos.chaotic_fraction, analysis.recurrences,

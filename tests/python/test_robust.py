@@ -406,29 +406,24 @@ def test_resume_check_survives_a_crash_or_hang_inside_libhdf5(tmp_path, monkeypa
     import signal
     import time
 
-    import fputlab.io as io
+    import fputlab._lowlevel as ll
+    import fputlab.io.files as files
     out, ck = tmp_path / "r.h5", tmp_path / "r.ckpt"
     simulate_to_file(lat8(), 50.0, out, checkpoint=ck)
     before = sha(out), sha(ck)
 
-    class Crashing:
-        def __getattr__(self, name):
-            return getattr(io.lib.__class__, name, None) or getattr(real, name)
+    def crashing(*args):
+        os.kill(os.getpid(), signal.SIGSEGV)
 
-        def fpl_results_verify(self, *args):
-            os.kill(os.getpid(), signal.SIGSEGV)
+    def hanging(*args):
+        while True:
+            time.sleep(1)
 
-    class Hanging(Crashing):
-        def fpl_results_verify(self, *args):
-            while True:
-                time.sleep(1)
-
-    real = io.lib
-    monkeypatch.setattr(io, "lib", Crashing())
+    monkeypatch.setattr(ll, "results_verify", crashing)
     with pytest.raises(OSError, match="SIGSEGV"):
         simulate_to_file(lat8(), 60.0, out, checkpoint=ck)
-    monkeypatch.setattr(io, "lib", Hanging())
-    monkeypatch.setattr(io, "VERIFY_TIMEOUT", 1.0)
+    monkeypatch.setattr(ll, "results_verify", hanging)
+    monkeypatch.setattr(files, "VERIFY_TIMEOUT", 1.0)
     with pytest.raises(OSError, match="did not finish"):
         simulate_to_file(lat8(), 60.0, out, checkpoint=ck)
     assert (sha(out), sha(ck)) == before

@@ -1,0 +1,39 @@
+"""Checked conversion of scalar arguments (the shared validation of every module): a wrong type
+is a TypeError, a value out of range a ValueError, and both name the parameter."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: ranges of C integer parameters
+C_INT = (-2**31, 2**31 - 1)
+C_LONG = (-2**63, 2**63 - 1)
+C_U64 = (-2**63, 2**64 - 1)     # seeds (negative values get their own "must be >= 0" errors)
+
+
+def _real(value, name: str) -> float:
+    """A real-number parameter as a float (bools and non-numbers refused)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    return float(value)
+
+
+def _finite_real(value, name: str) -> float:
+    """A real-number parameter that must be finite."""
+    x = _real(value, name)
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be finite (got {x})")
+    return x
+
+
+def _int(value, name: str, bounds: tuple = C_INT) -> int:
+    """An integer parameter, checked against the range of the C type it goes to (int by
+    default): out of range is a ValueError naming it, not cffi's anonymous OverflowError."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    value = int(value)
+    lo, hi = bounds
+    if not lo <= value <= hi:
+        raise ValueError(f"{name} = {value} is out of range (it must lie in [{lo}, {hi}])")
+    return value
