@@ -30,6 +30,16 @@ def method_info(method: str) -> dict:
     return {"order": order[0], "adaptive": bool(adaptive[0])}
 
 
+def _compensated_sums(value, method: str) -> int:
+    """The compensated_sums option as 0/1, refused for methods other than SPRKStep's."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"compensated_sums must be a bool, got {type(value).__name__}")
+    if value and not method.startswith("sprk-"):
+        raise ValueError(f"compensated_sums applies only to ARKODE's SPRKStep methods (sprk-*), "
+                         f"not to {method!r}")
+    return int(bool(value))
+
+
 class Integrator:
     """An integrator positioned at (t, y), with deviation vectors carried along: advance it,
     sample it, checkpoint it; nothing is stored.
@@ -52,11 +62,15 @@ class Integrator:
         Tolerances of the adaptive methods.
     max_steps : int, optional
         Most steps per call of an adaptive back end (0: its default).
+    compensated_sums : bool, optional
+        ARKODE SPRKStep methods ("sprk-*") only: compensated summation of the increments, which
+        removes most of the round-off growth (ValueError for any other method). The carry of
+        the summation is part of the state: `compensation` reads it, `restore` takes it.
     """
 
     def __init__(self, lattice: Lattice, y0, *, method: str = "yoshida4", t0: float = 0.0,
                  dt: float | None = None, rtol: float = 1e-10, atol: float = 1e-12,
-                 max_steps: int = 0):
+                 max_steps: int = 0, compensated_sums: bool = False):
         if not isinstance(lattice, Lattice):
             raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
         info = method_info(method)
@@ -71,6 +85,8 @@ class Integrator:
             opt.dt = 0.0
         opt.rtol, opt.atol = _real(rtol, "rtol"), _real(atol, "atol")
         opt.max_steps = _int(max_steps, "max_steps", C_LONG)
+        opt.compensated_sums = _compensated_sums(compensated_sums, method)
+        self.compensated_sums = bool(opt.compensated_sums)
         self.dt = opt.dt
         out = ffi.new("fpl_integrator **")
         check(lib.fpl_integrator_create(lattice._h, method.encode(), n_dev, opt,
@@ -105,11 +121,29 @@ class Integrator:
         """Internal step count (a checkpoint keeps it with `t` and `state`)."""
         return int(lib.fpl_integrator_steps(self._h))
 
-    def restore(self, steps: int, t: float, state) -> None:
-        """Continue from a checkpoint (steps, t, state) of an integrator made with the same
-        lattice, method, options and t0: bit-for-bit for fixed-step methods."""
+    @property
+    def compensation(self) -> np.ndarray | None:
+        """With compensated sums: the carry of the compensated summation, shape (1 + n_dev, 2N),
+        which a checkpoint keeps with `steps`, `t` and `state`; None without them."""
+        if not self.compensated_sums:
+            return None
+        c = np.empty(self._shape)
+        check(lib.fpl_integrator_get_compensation(self._h, ptr(c)))
+        return c
+
+    def restore(self, steps: int, t: float, state, compensation=None) -> None:
+        """Continue from a checkpoint (steps, t, state[, compensation]) of an integrator made
+        with the same lattice, method, options and t0: bit-for-bit for fixed-step methods (with
+        compensated sums only if `compensation` is given; otherwise the carry restarts at 0)."""
         y = as_float_array(state, "state", self._shape)
+        c = None
+        if compensation is not None:
+            if not self.compensated_sums:
+                raise ValueError("compensation: this integrator does not use compensated sums")
+            c = as_float_array(compensation, "compensation", self._shape)
         self._check(lib.fpl_integrator_restore(self._h, _int(steps, "steps", C_LONG), _real(t, "t"), ptr(y)))
+        if c is not None:
+            self._check(lib.fpl_integrator_set_compensation(self._h, ptr(c)))
 
     def advance(self, t: float) -> np.ndarray:
         """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
@@ -271,7 +305,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
               rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
               times=None, y0=None, deviations=None, t0: float = 0.0, store_states: bool = False,
               stop_on=None, chunk: int = 4096, on_failure: str = "raise",
-              progress: bool = False) -> Run:
+              progress: bool = False, compensated_sums: bool = False) -> Run:
     """Integrate a lattice from `y0` to `t_end`, sampling mode energies and energy on the way.
 
     Parameters
@@ -289,6 +323,9 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         Step of the fixed-step methods (default 0.01); an initial step for adaptive ones.
     rtol, atol : float, optional
         Relative and absolute tolerances of the adaptive methods.
+    compensated_sums : bool, optional
+        ARKODE SPRKStep methods ("sprk-*", SUNDIALS >= 6.6 builds) only: compensated summation
+        of the increments, less round-off growth (ValueError for other methods).
     sample_every : float, optional
         Sampling interval (default: (t_end - t0)/1000). Exclusive with `times`.
     times : array_like, optional
@@ -340,6 +377,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure must be 'raise' or 'return', got {on_failure!r}")
+    _compensated_sums(compensated_sums, method)
     t0, t_end = _real(t0, "t0"), _real(t_end, "t_end")
     if not math.isfinite(t0):
         raise ValueError(f"t0 must be finite (got {t0:g})")
@@ -388,19 +426,20 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     set_criteria(lattice, stop_on)
     try:
         return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
-                          chunk, on_failure, progress)
+                          chunk, on_failure, progress, compensated_sums)
     finally:
         if stop_on:
             set_criteria(lattice, None)
 
 
 def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
-               on_failure, progress=False):
+               on_failure, progress=False, compensated_sums=False):
     import time
 
     from ._errors import Interrupted, Pacer, first_span
     N = lattice.N
-    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
+    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol,
+                       compensated_sums=compensated_sums)
     parts = {"t": [], "ek": [], "en": [], "st": []}
     message, completed, status = "", True, lib.FPL_ERR_NONFINITE
     bar = None
@@ -476,7 +515,8 @@ def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_sta
 
 def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: str = "yoshida4",
                  t0: float = 0.0, dt: float | None = None, rtol: float = 1e-10,
-                 atol: float = 1e-12) -> Iterator[tuple[float, np.ndarray]]:
+                 atol: float = 1e-12,
+                 compensated_sums: bool = False) -> Iterator[tuple[float, np.ndarray]]:
     """Stream (t, state) pairs without keeping the trajectory.
 
     Parameters
@@ -497,6 +537,8 @@ def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: s
         Step of the fixed-step methods (default 0.01).
     rtol, atol : float, optional
         Tolerances of the adaptive methods.
+    compensated_sums : bool, optional
+        SPRKStep methods ("sprk-*") only: compensated summation (see `Integrator`).
 
     Yields
     ------
@@ -511,6 +553,7 @@ def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: s
         [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
     if dt is None and not method_info(method)["adaptive"]:
         dt = 0.01
-    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
+    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol,
+                       compensated_sums=compensated_sums)
     for t in as_float_array(times, "times"):
         yield float(t), integ.advance(t)

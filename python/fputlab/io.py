@@ -359,7 +359,8 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
                      checkpoint_every_steps: int | None = None,
                      checkpoint_every_seconds: float | None = 600.0, resume: bool = True,
                      chunk_rows: int = 256, progress: bool = False,
-                     max_steps_per_segment: int = 100_000, overwrite: bool = False) -> RunSummary:
+                     max_steps_per_segment: int = 100_000, overwrite: bool = False,
+                     compensated_sums: bool = False) -> RunSummary:
     """Integrate from t = 0 to t_end, writing samples (t, mode energies, energy, optionally the
     states) to the HDF5 file `out` as the run goes.
 
@@ -372,13 +373,17 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     extended. stop_on: stopping criteria as in fputlab.integrate.
 
     An existing `out` is never replaced unless `overwrite` (or continued from its checkpoint);
-    `out` and `checkpoint` must be different files."""
+    `out` and `checkpoint` must be different files. `compensated_sums` (SPRKStep methods
+    "sprk-*" only) is kept in the checkpoint with the summation's carry, so that a restart
+    continues bit for bit; a resume must give the same value."""
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     t_end = _real(t_end, "t_end")
     if not (math.isfinite(t_end) and t_end > 0):
         raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
     adaptive = method_info(method)["adaptive"]
+    from .integrate import _compensated_sums
+    _compensated_sums(compensated_sums, method)
     if dt is None and not adaptive:
         dt = 0.01
     every = t_end / 1000 if sample_every is None else _real(sample_every, "sample_every")
@@ -409,7 +414,8 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     from .blowup import set_criteria
     set_criteria(lattice, stop_on)
     try:
-        integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol)
+        integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol,
+                           compensated_sums=compensated_sums)
         info = _RunInfo(lattice, "simulate", method, integ.dt, rtol, atol, 0.0, integ.n_dev,
                         store_states, chunk_rows)
         resumed = None

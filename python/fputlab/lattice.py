@@ -300,7 +300,8 @@ class Lattice:
                   rtol: float = 1e-10, atol: float = 1e-12, sample_every: float | None = None,
                   times=None, y0=None, deviations=None, t0: float = 0.0,
                   store_states: bool = False, stop_on=None, chunk: int = 4096,
-                  on_failure: str = "raise", progress: bool = False):
+                  on_failure: str = "raise", progress: bool = False,
+                  compensated_sums: bool = False):
         """Integrate this lattice: ``fputlab.integrate(self, t_end, ...)``.
 
         Parameters
@@ -334,6 +335,8 @@ class Lattice:
             samples with ``completed=False``.
         progress : bool, optional
             A progress bar with ETA (tqdm.auto).
+        compensated_sums : bool, optional
+            SPRKStep methods ("sprk-*") only: compensated summation (ValueError otherwise).
 
         Returns
         -------
@@ -347,7 +350,8 @@ class Lattice:
         return integrate(self, t_end, method=method, dt=dt, rtol=rtol, atol=atol,
                          sample_every=sample_every, times=times, y0=y0, deviations=deviations,
                          t0=t0, store_states=store_states, stop_on=stop_on, chunk=chunk,
-                         on_failure=on_failure, progress=progress)
+                         on_failure=on_failure, progress=progress,
+                         compensated_sums=compensated_sums)
 
     def __reduce__(self):
         # Picklable for process pools: rebuilt from its parameters (v passed explicitly).
