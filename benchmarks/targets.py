@@ -18,6 +18,7 @@ accurate than e* costs what that point costs). The best of each side is compared
 
     .venv/bin/python benchmarks/targets.py                      # ~5-10 min here
     .venv/bin/python benchmarks/targets.py --sizes 8 64 --json out.json
+    .venv/bin/python benchmarks/targets.py --sizes 4096 --fputlab-methods srkn14a6 aba864 gsl-rk8pd
 """
 from __future__ import annotations
 
@@ -144,9 +145,14 @@ def main(argv=None):
     ap.add_argument("--min-time", type=float, default=0.05)
     ap.add_argument("--cap", type=float, default=15.0, help="CPU seconds a single run may take")
     ap.add_argument("--json", help="write every point here")
+    ap.add_argument("--fputlab-methods", nargs="+", help="default: " + " ".join(
+        list(FIXED_STEPS) + FPL_ADAPTIVE))
+    ap.add_argument("--scipy-methods", nargs="+", default=SCIPY_METHODS)
     cfg = ap.parse_args(argv)
     log = lambda s: print(s, file=sys.stderr, flush=True)   # noqa: E731
     methods = set(fputlab.methods())
+    if cfg.fputlab_methods:
+        methods &= set(cfg.fputlab_methods) | {"srkn14a6"}    # srkn14a6: the reference
     log(f"load average at start: {B.loadavg()}")
     scipy_run("DOP853", 8, B.problem(8)[1], 1.0, 1e-3)        # warm-up: imports
     out = {"sizes": {}, "load_start": B.loadavg(), "targets": TARGET_ERRORS}
@@ -157,16 +163,17 @@ def main(argv=None):
         rfloor = rinfo["check_diff_state"]
         log(f"N = {N}: reference {rinfo['method']} {rinfo['setting']}, check {rfloor:.1e}")
         res = {"reference": rinfo, "fputlab": {}, "scipy": {}}
+        wanted = set(cfg.fputlab_methods or methods)
         for m, ns in FIXED_STEPS.items():
-            if m in methods:
+            if m in methods and m in wanted:
                 res["fputlab"][m] = sweep(m, ns, lambda n, m=m: (
                     lambda: fpl_run(lat, st, T_END, m, dt=1.0 / n)), ref, floor, cfg, log)
         for m in FPL_ADAPTIVE:
-            if m in methods:
+            if m in methods and m in wanted:
                 res["fputlab"][m] = sweep(m, TOLS, lambda tol, m=m: (
                     lambda: fpl_run(lat, st, T_END, m, rtol=tol, atol=tol)), ref, floor, cfg,
                     log)
-        for m in SCIPY_METHODS:
+        for m in cfg.scipy_methods:
             res["scipy"][m] = sweep("scipy " + m, TOLS, lambda tol, m=m: (
                 lambda: scipy_run(m, N, st, T_END, tol)), ref, floor, cfg, log)
         res["at"] = {}
