@@ -42,22 +42,52 @@ typedef struct sprk_method {
     const char *table;          /* ARKODE's table name (set by name: no table to own or free) */
 } sprk_method;
 
-static void sprk_release(fpl_integrator *h)
-{
-    fpl_sun_data *d = h->data;
-    if (d && d->mem) FPL_ARK(SPRKStep, Free)(&d->mem);
-    fpl_sun_data_free(h);
-}
-
 /* SPRKStepSetUseCompensatedSums (7.1.1) clones its error accumulator from the state vector and
  * never zeroes it: the first steps then add whatever the allocator left there (measured: energy
  * errors 1e-3..1 instead of 1e-16, and right-hand-side failures under MALLOC_PERTURB_). The
- * solver's vectors are clones of ours, so a clone operation that zeroes fixes it. */
+ * solver's vectors are clones of ours, so a clone operation that zeroes fixes it.
+ *
+ * The same clone operation finds the accumulator (the "carry" of the compensated sums): SUNDIALS
+ * has no function to read or set it (6.6 to 7.5: step_mem->yerr is private, SPRKStepReset zeroes
+ * it), yet a restart without it is not bit for bit. SPRKStepSetUseCompensatedSums allocates it by
+ * cloning the solver's state vector (6.6.0 to 7.5.0 alike), so the one vector cloned during that
+ * call is the carry; sprk_init checks that exactly one was. */
+static _Thread_local N_Vector *clone_capture;
+static _Thread_local int clone_captured;
+
 static N_Vector clone_zeroed(N_Vector w)
 {
     N_Vector v = N_VClone_Serial(w);
     if (v) N_VConst_Serial(0.0, v);
+    if (v && clone_capture) {
+        *clone_capture = v;
+        clone_captured++;
+    }
     return v;
+}
+
+/* Compensated sums: SPRKStep's carry vector and a copy of it kept across a solver reset. */
+typedef struct sprk_carry {
+    N_Vector yerr;              /* owned by SPRKStep */
+    double *saved;              /* dim */
+} sprk_carry;
+
+static sprk_carry *carry_of(const fpl_integrator *h)
+{
+    const fpl_sun_data *d = h->data;
+    return d ? d->extra : NULL;
+}
+
+static void sprk_release(fpl_integrator *h)
+{
+    fpl_sun_data *d = h->data;
+    if (d && d->mem) FPL_ARK(SPRKStep, Free)(&d->mem);
+    if (d && d->extra) {
+        free(((sprk_carry *)d->extra)->saved);
+        free(d->extra);
+        d->extra = NULL;
+    }
+    fpl_sun_data_free(h);
 }
 
 static int sprk_init(fpl_integrator *h)
@@ -78,9 +108,23 @@ static int sprk_init(fpl_integrator *h)
         return fpl_sun_setup_failed(h, "SPRKStepSetFixedStep", flag);
     if ((flag = FPL_ARK(SPRKStep, SetMaxNumSteps)(d->mem, h->opt.max_steps)) != ARK_SUCCESS)
         return fpl_sun_setup_failed(h, "SPRKStepSetMaxNumSteps", flag);
-    if (h->opt.compensated_sums &&
-        (flag = SPRKStepSetUseCompensatedSums(d->mem, SUNTRUE)) != ARK_SUCCESS)
-        return fpl_sun_setup_failed(h, "SPRKStepSetUseCompensatedSums", flag);
+    if (h->opt.compensated_sums) {
+        sprk_carry *c = calloc(1, sizeof *c);
+        if (!c || !(d->extra = c) || !(c->saved = calloc((size_t)h->dim, sizeof(double))))
+            return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (compensated sums)");
+        clone_capture = &c->yerr;
+        clone_captured = 0;
+        flag = SPRKStepSetUseCompensatedSums(d->mem, SUNTRUE);
+        clone_capture = NULL;
+        if (flag != ARK_SUCCESS)
+            return fpl_sun_setup_failed(h, "SPRKStepSetUseCompensatedSums", flag);
+        if (clone_captured != 1 || N_VGetLength(c->yerr) != (sunindextype)h->dim)
+            return fpl_error(NULL, FPL_ERR_BACKEND,
+                             "ARKODE %s: compensated_sums: this SUNDIALS (%s) allocates the "
+                             "compensation carry other than SUNDIALS 6.6-7.5 do (%d vectors "
+                             "cloned), so it could not be checkpointed", h->method->name,
+                             SUNDIALS_VERSION, clone_captured);
+    }
     const int n_events = fpl_system_event_count(h->sys);
     if (n_events > 0) {
         int dirs[8];
@@ -94,13 +138,53 @@ static int sprk_init(fpl_integrator *h)
     return FPL_OK;
 }
 
+/* What a solver reset does with the compensated sums' carry (SPRKStepReset zeroes it). */
+enum carry_mode {
+    CARRY_ZERO,         /* start afresh (a restore without a carry) */
+    CARRY_KEEP,         /* keep it (saved first: a sample off the grid) */
+    CARRY_SAVED,        /* put back the one saved by the last CARRY_KEEP/CARRY_ORBIT */
+    CARRY_ORBIT,        /* keep the orbit's, zero the deviation vectors' (they were replaced) */
+};
+
 /* Put the solver back at (h->t, h->y), options and fixed step kept. */
-static int sprk_restart(fpl_integrator *h)
+static int sprk_restart_carry(fpl_integrator *h, enum carry_mode mode)
 {
     fpl_sun_data *d = h->data;
-    memcpy(N_VGetArrayPointer(d->y), h->y, sizeof(double) * (size_t)h->dim);
+    sprk_carry *c = carry_of(h);
+    const size_t bytes = sizeof(double) * (size_t)h->dim;
+    if (c && (mode == CARRY_KEEP || mode == CARRY_ORBIT))
+        memcpy(c->saved, N_VGetArrayPointer(c->yerr), bytes);
+    memcpy(N_VGetArrayPointer(d->y), h->y, bytes);
     int flag = FPL_ARK(SPRKStep, Reset)(d->mem, h->t, d->y);
-    return flag == ARK_SUCCESS ? FPL_OK : fpl_sun_setup_failed(h, "SPRKStepReset", flag);
+    if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "SPRKStepReset", flag);
+    if (c && mode != CARRY_ZERO) {
+        const size_t keep = mode == CARRY_ORBIT ? (size_t)(h->dim / (h->n_dev + 1)) : (size_t)h->dim;
+        memcpy(N_VGetArrayPointer(c->yerr), c->saved, sizeof(double) * keep);
+    }
+    return FPL_OK;
+}
+
+/* The back end's reset: after the deviation vectors were transformed in place (their carry no
+ * longer belongs to them), after a failure, and from fpl_integrator_restore (which then sets
+ * or zeroes the carry through sprk_set_compensation). */
+static int sprk_restart(fpl_integrator *h) { return sprk_restart_carry(h, CARRY_ORBIT); }
+
+static int sprk_get_compensation(const fpl_integrator *h, double *carry)
+{
+    const sprk_carry *c = carry_of(h);
+    if (!c) return FPL_ERR_ARG;
+    memcpy(carry, N_VGetArrayPointer(c->yerr), sizeof(double) * (size_t)h->dim);
+    return FPL_OK;
+}
+
+static int sprk_set_compensation(fpl_integrator *h, const double *carry)
+{
+    sprk_carry *c = carry_of(h);
+    if (!c) return FPL_ERR_ARG;
+    double *v = N_VGetArrayPointer(c->yerr);
+    if (carry) memcpy(v, carry, sizeof(double) * (size_t)h->dim);
+    else memset(v, 0, sizeof(double) * (size_t)h->dim);
+    return FPL_OK;
 }
 
 static const fpl_sun_ops sprk_ops = {
@@ -134,12 +218,12 @@ static int steps(fpl_integrator *h, long n, double t_target, long *done, double 
 }
 
 /* Restart at (h->t, h->y) with fixed step dt_step (a Reset makes a new fixed step take effect). */
-static int restart_with_step(fpl_integrator *h, double dt_step)
+static int restart_with_step(fpl_integrator *h, double dt_step, enum carry_mode mode)
 {
     fpl_sun_data *d = h->data;
     int flag = FPL_ARK(SPRKStep, SetFixedStep)(d->mem, dt_step);
     if (flag != ARK_SUCCESS) return fpl_sun_setup_failed(h, "SPRKStepSetFixedStep", flag);
-    return sprk_restart(h);
+    return sprk_restart_carry(h, mode);
 }
 
 static int sprk_advance(fpl_integrator *h, double t_target, double *y_out)
@@ -172,20 +256,21 @@ static int sprk_advance(fpl_integrator *h, double t_target, double *y_out)
     }
     const double rest = t_target - h->t;
     if (rest <= 1e-9 * dt) return FPL_OK;
-    /* Off the grid: one step of length rest from the grid state, then back to the grid. */
-    int st = restart_with_step(h, rest);
+    /* Off the grid: one step of length rest from the grid state, then back to the grid with
+     * the grid state's carry (so that sampling does not change the run, compensated or not). */
+    int st = restart_with_step(h, rest, CARRY_KEEP);
     if (st != FPL_OK) return st;
     int flag = steps(h, 1, t_target, &done, &tret);
     const double *yv = N_VGetArrayPointer(d->y);
     if (flag == ARK_SUCCESS && fpl_is_finite_array(yv, h->dim, NULL)) {
         memcpy(y_out, yv, bytes);
-        return restart_with_step(h, dt);
+        return restart_with_step(h, dt, CARRY_SAVED);
     }
     if (flag < 0) tret = h->t;
     const long n_grid = h->n_steps;
     st = fpl_sun_classify(h, &sprk_ops, flag, tret, t_target, y_out);
     h->n_steps = n_grid;
-    if (flag != ARK_ROOT_RETURN) restart_with_step(h, dt);
+    if (flag != ARK_ROOT_RETURN) restart_with_step(h, dt, CARRY_SAVED);
     return st;
 }
 
@@ -196,6 +281,8 @@ static const fpl_backend backend_sprk = {
     .advance = sprk_advance,
     .reset = sprk_restart,
     .release = sprk_release,
+    .get_compensation = sprk_get_compensation,
+    .set_compensation = sprk_set_compensation,
 };
 
 static const sprk_method m_mclachlan4 = {"ARKODE_SPRK_MCLACHLAN_4_4"};

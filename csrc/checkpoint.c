@@ -248,6 +248,7 @@ int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl
     fpl_h5_quiet_begin(&q);
     char msg[256] = "";
     int st = FPL_OK;
+    double *carry = NULL;
     hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
     hid_t f = fcpl >= 0 && H5Pset_userblock(fcpl, USERBLOCK) >= 0
                   ? H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT) : -1;
@@ -258,7 +259,21 @@ int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl
         goto out;
     }
     unsigned long long sum = checksum(h->n_steps, h->t, h->y, h->dim, lat->v, lat->n, extra, n_extra);
+    /* compensated sums: the carry belongs to the state (a restart without it is not bit for bit) */
+    const int comp = h->opt.compensated_sums;
+    if (comp && !(carry = malloc(sizeof(double) * (size_t)h->dim))) {
+        st = fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (checkpoint compensation)");
+        H5Fclose(f);
+        goto out;
+    }
+    if (comp && (st = fpl_integrator_get_compensation(h, carry))) {
+        H5Fclose(f);
+        goto out;
+    }
+    if (comp) sum = fpl_fnv1a(sum, carry, sizeof(double) * (size_t)h->dim);
     int bad = fpl_h5_write_description(f, SCHEMA, lat, &d) ||
+              fpl_h5_set_long(f, "compensated_sums", comp) ||
+              (comp && fpl_h5_write_vector(f, "compensation", carry, (size_t)h->dim)) ||
               fpl_h5_set_long(f, "n_steps", h->n_steps) || fpl_h5_set_double(f, "t", h->t) ||
               fpl_h5_set_u64(f, "checksum", sum) ||
               fpl_h5_write_vector(f, "state", h->y, (size_t)h->dim) ||
@@ -287,6 +302,7 @@ int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl
     fsync_path(dir, O_RDONLY); /* best effort: some file systems refuse fsync on folders */
 out:
     if (st) remove(tmp);
+    free(carry);
     fpl_h5_quiet_end(&q);
     return st;
 }
@@ -377,7 +393,7 @@ int fpl_checkpoint_load(const char *path, fpl_integrator *h, const fpl_run_info 
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     hid_t f = -1;
-    double *y = NULL, ex[FPL_CHECKPOINT_MAX_EXTRA];
+    double *y = NULL, *carry = NULL, ex[FPL_CHECKPOINT_MAX_EXTRA];
     int st = open_checkpoint(path, &f);
     if (st) goto out;
     if ((st = fpl_h5_check_description(f, path, SCHEMA, h->lat, h->method->name))) goto out;
@@ -397,7 +413,32 @@ int fpl_checkpoint_load(const char *path, fpl_integrator *h, const fpl_run_info 
                        "missing or of the wrong size", path);
         goto out;
     }
-    if (checksum(steps, t, y, h->dim, h->lat->v, h->lat->n, ex, (int)nex) != sum) {
+    /* compensated sums (attribute absent in checkpoints of runs without them) */
+    long comp = 0;
+    if (H5Aexists(f, "compensated_sums") > 0 && fpl_h5_get_long(f, "compensated_sums", &comp)) {
+        st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: compensated_sums unreadable", path);
+        goto out;
+    }
+    if ((comp != 0) != (h->opt.compensated_sums != 0)) {
+        st = fpl_error(NULL, FPL_ERR_ARG, "checkpoint %s was written with compensated_sums = %ld, "
+                       "this run has compensated_sums = %d", path, comp, h->opt.compensated_sums);
+        goto out;
+    }
+    if (comp) {
+        size_t clen = (size_t)h->dim;
+        if (!(carry = malloc(sizeof(double) * clen))) {
+            st = fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (checkpoint compensation)");
+            goto out;
+        }
+        if (fpl_h5_read_vector(f, "compensation", carry, &clen) || clen != (size_t)h->dim) {
+            st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s: compensation missing or of the wrong "
+                           "size", path);
+            goto out;
+        }
+    }
+    unsigned long long expect = checksum(steps, t, y, h->dim, h->lat->v, h->lat->n, ex, (int)nex);
+    if (comp) expect = fpl_fnv1a(expect, carry, sizeof(double) * (size_t)h->dim);
+    if (expect != sum) {
         st = fpl_error(NULL, FPL_ERR_IO, "checkpoint %s is corrupt (checksum mismatch)", path);
         goto out;
     }
@@ -407,10 +448,12 @@ int fpl_checkpoint_load(const char *path, fpl_integrator *h, const fpl_run_info 
         goto out;
     }
     if ((st = fpl_integrator_restore(h, steps, t, y))) goto out;
+    if (comp && (st = fpl_integrator_set_compensation(h, carry))) goto out;
     if (nex) memcpy(extra, ex, sizeof(double) * nex);
     if (n_extra) *n_extra = (int)nex;
 out:
     free(y);
+    free(carry);
     if (f >= 0) H5Fclose(f);
     H5Eclear2(H5E_DEFAULT);
     fpl_h5_quiet_end(&q);

@@ -138,6 +138,10 @@ int fpl_integrator_create(const fpl_lattice *lattice, const char *method, int n_
     }
     if (o.max_steps < 0)
         return fpl_error(NULL, FPL_ERR_ARG, "max_steps must be >= 0 (got %ld)", o.max_steps);
+    if (o.compensated_sums && !m->backend->set_compensation)
+        return fpl_error(NULL, FPL_ERR_ARG, "compensated_sums applies only to ARKODE's SPRKStep "
+                         "methods (sprk-*), not to '%s'", m->name);
+    o.compensated_sums = o.compensated_sums != 0;
     if (o.max_steps == 0) o.max_steps = 100000000L;
     long dim = 2L * fpl_lattice_size(lattice) * (n_dev + 1), bad = -1;
     if (!fpl_is_finite_array(y0, dim, &bad))
@@ -284,7 +288,34 @@ int fpl_integrator_restore(fpl_integrator *h, long n_steps, double t, const doub
     h->t = t;
     h->stopped = 0;
     int st = h->method->backend->reset ? h->method->backend->reset(h) : FPL_OK;
+    if (st >= 0 && h->opt.compensated_sums) h->method->backend->set_compensation(h, NULL);
     return st < 0 ? fail(h, st) : st;
+}
+
+static int no_compensation(const fpl_integrator *h)
+{
+    return fpl_error(NULL, FPL_ERR_ARG, "integrator (method %s) does not use compensated sums "
+                     "(compensated_sums = 0)", h->method->name);
+}
+
+int fpl_integrator_get_compensation(const fpl_integrator *h, double *carry)
+{
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    if (!carry) return fpl_error(NULL, FPL_ERR_ARG, "carry: NULL pointer");
+    if (!h->opt.compensated_sums) return no_compensation(h);
+    return h->method->backend->get_compensation(h, carry);
+}
+
+int fpl_integrator_set_compensation(fpl_integrator *h, const double *carry)
+{
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    h->errmsg[0] = '\0';
+    if (!carry) return fail(h, fpl_error(NULL, FPL_ERR_ARG, "carry: NULL pointer"));
+    if (!h->opt.compensated_sums) return fail(h, no_compensation(h));
+    long bad;
+    if (!fpl_is_finite_array(carry, h->dim, &bad))
+        return fail(h, fpl_error(NULL, FPL_ERR_ARG, "carry[%ld] is not finite", bad));
+    return h->method->backend->set_compensation(h, carry);
 }
 
 int fpl_integrator_transform_deviations(fpl_integrator *h, const double *m)

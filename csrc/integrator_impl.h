@@ -18,6 +18,10 @@ typedef struct fpl_backend {
     /* h->y was changed in place at h->t (deviation vectors transformed) */
     int (*reset)(fpl_integrator *h);
     void (*release)(fpl_integrator *h);
+    /* optional (SPRKStep with compensated sums): copy out / set (NULL: zero) the carry of the
+     * compensated summation, length dim; FPL_ERR_ARG when the integrator has none */
+    int (*get_compensation)(const fpl_integrator *h, double *carry);
+    int (*set_compensation)(fpl_integrator *h, const double *carry);
 } fpl_backend;
 
 typedef struct fpl_method {

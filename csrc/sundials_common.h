@@ -22,6 +22,8 @@ typedef struct fpl_sun_data {
     long base_steps, base_rhs;  /* counters accumulated before the last ReInit */
     const char *package;        /* "ARKODE", "CVODE": prefix of the messages */
     fpl_sun_msgbuf err;         /* last SUNDIALS error message */
+    void *extra;                /* back-end private (SPRKStep: the compensated sums' carry);
+                                   the back end's release frees it */
 } fpl_sun_data;
 
 /* What the classification needs from a package. */

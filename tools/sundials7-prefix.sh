@@ -2,8 +2,11 @@
 # Unpack Debian 13 ("trixie") SUNDIALS 7.x (libsundials-dev and the libraries fputlab links) into a
 # private prefix, for building fputlab against SUNDIALS 7 on a Debian 12 machine:
 #
-#   tools/sundials7-prefix.sh [PREFIX]          (default: ./build-sun7/prefix)
+#   tools/sundials7-prefix.sh [PREFIX [SUITE]]  (default: ./build-sun7/prefix, suite trixie)
 #   meson setup build-sun7/build -Dsundials_dir=PREFIX/usr
+#
+# SUITE picks another Debian suite by the same mechanism (e.g. sid or experimental, for another
+# SUNDIALS 7.x; experimental carries only what differs from sid, so sid is added under it).
 #
 # Trixie's SUNDIALS libraries only need glibc >= 2.14, so they run on Debian 12 from any directory.
 # Nothing is installed and the system's apt configuration is left alone: apt-get runs with a
@@ -12,6 +15,8 @@
 # existing prefix with a SUNDIALS 7 sundials_config.h is kept.
 set -euo pipefail
 PREFIX=${1:-build-sun7/prefix}
+SUITE=${2:-trixie}
+[[ $SUITE =~ ^[a-z]+$ ]] || { echo "[sundials7-prefix] SUITE must be a Debian suite name (got '$SUITE')" >&2; exit 2; }
 mkdir -p "$PREFIX"
 PREFIX=$(cd "$PREFIX" && pwd)
 log() { printf '[sundials7-prefix] %s\n' "$*" >&2; }
@@ -40,14 +45,18 @@ if [[ -z $mirror ]]; then
 fi
 [[ -n $mirror ]] || { log "no Debian mirror found in /etc/apt/sources.list{,.d}"; exit 1; }
 keyring=/usr/share/keyrings/debian-archive-keyring.gpg
-log "mirror $mirror, suite trixie"
+log "mirror $mirror, suite $SUITE"
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/lists/partial" "$tmp/cache/archives/partial" "$tmp/parts" "$tmp/prefs" "$tmp/debs"
 cat > "$tmp/sources.list" <<EOF
-deb [signed-by=$keyring] $mirror trixie main
+deb [signed-by=$keyring] $mirror $SUITE main
 EOF
+if [[ $SUITE == experimental ]]; then
+  echo "deb [signed-by=$keyring] $mirror sid main" >> "$tmp/sources.list"
+  printf 'Package: *\nPin: release a=experimental\nPin-Priority: 990\n' > "$tmp/prefs/experimental.pref"
+fi
 : > "$tmp/status"
 APT=(apt-get -q -o Dir::Etc::SourceList="$tmp/sources.list" -o Dir::Etc::SourceParts="$tmp/parts"
      -o Dir::Etc::Preferences="$tmp/prefs/none" -o Dir::Etc::PreferencesParts="$tmp/prefs"

@@ -31,8 +31,9 @@ typedef struct fpl_integrator_options {
     double rtol;      /* adaptive methods: relative tolerance (> 0) */
     double atol;      /* adaptive methods: absolute tolerance (> 0) */
     long max_steps;   /* adaptive methods: internal steps allowed per advance (0 = 10^8) */
-    int compensated_sums; /* ARKODE SPRKStep methods ("sprk-*"): compensated summation of the
-                             increments (non-zero), which removes most round-off growth */
+    int compensated_sums; /* ARKODE SPRKStep methods ("sprk-*") only: compensated summation of
+                             the increments (non-zero), which removes most round-off growth;
+                             refused (FPL_ERR_ARG) for every other method */
     const fpl_event_set *events; /* stopping criteria (fputlab/events.h; copied at create), or
                              NULL for none: the run stops with FPL_EVENT when one fires */
 } fpl_integrator_options;
@@ -75,6 +76,17 @@ FPL_API int fpl_integrator_get_state(const fpl_integrator *integrator, double *y
  * identical to an uninterrupted run; adaptive methods restart their step-size control at t. */
 FPL_API int fpl_integrator_restore(fpl_integrator *integrator, long n_steps, double t,
                                    const double *y);
+/* Compensated sums (opt.compensated_sums, "sprk-*" methods): the carry of the compensated
+ * summation (length 2N(1+n_dev)), the round-off the next step adds back. A checkpoint must keep
+ * it for a bit-for-bit restart: fpl_integrator_restore zeroes it, then set it from the
+ * checkpoint (fpl_checkpoint_write/_load do both). SUNDIALS has no function for it (6.6-7.5):
+ * fputlab finds the vector as SPRKStep allocates it (a clone of the state vector), and refuses
+ * compensated_sums at creation where that fails. FPL_ERR_ARG if the integrator does not use
+ * compensated sums.
+ * Transforming the deviation vectors zeroes their part of the carry (the orbit's is kept). */
+FPL_API int fpl_integrator_get_compensation(const fpl_integrator *integrator, double *carry);
+FPL_API int fpl_integrator_set_compensation(fpl_integrator *integrator, const double *carry);
+
 /* Internal step count (with fpl_integrator_time and the state: what a checkpoint must keep). */
 FPL_API long fpl_integrator_steps(const fpl_integrator *integrator);
 

@@ -129,13 +129,14 @@ def modes_omega(N: int) -> np.ndarray:
 # ---- option structs ------------------------------------------------------------------------
 
 def integrator_options(dt: float = DT, rtol: float = RTOL, atol: float = ATOL,
-                       max_steps: int = MAX_STEPS):
+                       max_steps: int = MAX_STEPS, compensated_sums: int = 0):
     """An fpl_integrator_options (fpl_integrator_options_init, then the given values). Stopping
     criteria (its `events` field) are given to the handle that creates the run: C copies them
     at create, so they need to live only that long."""
     opt = ffi.new("fpl_integrator_options *")
     lib.fpl_integrator_options_init(opt)
     opt.dt, opt.rtol, opt.atol, opt.max_steps = dt, rtol, atol, max_steps
+    opt.compensated_sums = compensated_sums
     return opt
 
 
@@ -328,6 +329,16 @@ class IntegratorHandle(_Handle):
 
     def restore(self, steps: int, t: float, state: np.ndarray) -> None:
         self.check(lib.fpl_integrator_restore(self.ptr, steps, t, ptr(state)))
+
+    def get_compensation(self) -> np.ndarray:
+        """fpl_integrator_get_compensation: the compensated sums' carry, shape of the state."""
+        c = np.empty(self.shape)
+        self.check(lib.fpl_integrator_get_compensation(self.ptr, ptr(c)))
+        return c
+
+    def set_compensation(self, c: np.ndarray) -> None:
+        """fpl_integrator_set_compensation."""
+        self.check(lib.fpl_integrator_set_compensation(self.ptr, ptr(c)))
 
     def advance(self, t: float, out: np.ndarray | None = None) -> int:
         """fpl_integrator_advance to t, the state there into `out` (None: not copied); returns

@@ -32,6 +32,16 @@ def method_info(method: str) -> dict:
     return {"order": order, "adaptive": adaptive}
 
 
+def _compensated_sums(value, method: str) -> int:
+    """The compensated_sums option as 0/1, refused for methods other than SPRKStep's."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"compensated_sums must be a bool, got {type(value).__name__}")
+    if value and not method.startswith("sprk-"):
+        raise ValueError(f"compensated_sums applies only to ARKODE's SPRKStep methods (sprk-*), "
+                         f"not to {method!r}")
+    return int(bool(value))
+
+
 #: stopping-criterion names -> C kinds (the criteria of `stop_on` and `fputlab.blowup`)
 CRITERIA = dict(ll.EVENT_KINDS)
 
@@ -82,11 +92,15 @@ class Integrator:
     criteria : list of tuple, optional
         Stopping criteria of this run, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`):
         when one fires, `advance` stops at the event and `event` says which and when.
+    compensated_sums : bool, optional
+        ARKODE SPRKStep methods ("sprk-*") only: compensated summation of the increments, which
+        removes most of the round-off growth (ValueError for any other method). The carry of
+        the summation is part of the state: `compensation` reads it, `restore` takes it.
     """
 
     def __init__(self, lattice: Lattice, y0, *, method: str = "yoshida4", t0: float = 0.0,
                  dt: float | None = None, rtol: float = ll.RTOL, atol: float = ll.ATOL,
-                 max_steps: int = ll.MAX_STEPS, criteria=None):
+                 max_steps: int = ll.MAX_STEPS, criteria=None, compensated_sums: bool = False):
         if not isinstance(lattice, Lattice):
             raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
         info = method_info(method)
@@ -96,7 +110,9 @@ class Integrator:
         # no dt: the C default for fixed-step methods, 0 (the back end's choice) for adaptive ones
         step = _real(dt, "dt") if dt is not None else 0.0 if self.adaptive else ll.DT
         opt = ll.integrator_options(step, _real(rtol, "rtol"), _real(atol, "atol"),
-                                    _int(max_steps, "max_steps", C_LONG))
+                                    _int(max_steps, "max_steps", C_LONG),
+                                    _compensated_sums(compensated_sums, method))
+        self.compensated_sums = bool(opt.compensated_sums)
         self.dt = opt.dt
         self._h = ll.IntegratorHandle(lattice._h, method, n_dev, opt, _real(t0, "t0"), y,
                                       criteria_events(criteria))
@@ -122,11 +138,27 @@ class Integrator:
         """Internal step count (a checkpoint keeps it with `t` and `state`)."""
         return self._h.steps()
 
-    def restore(self, steps: int, t: float, state) -> None:
-        """Continue from a checkpoint (steps, t, state) of an integrator made with the same
-        lattice, method, options and t0: bit-for-bit for fixed-step methods."""
+    @property
+    def compensation(self) -> np.ndarray | None:
+        """With compensated sums: the carry of the compensated summation, shape (1 + n_dev, 2N),
+        which a checkpoint keeps with `steps`, `t` and `state`; None without them."""
+        if not self.compensated_sums:
+            return None
+        return self._h.get_compensation()
+
+    def restore(self, steps: int, t: float, state, compensation=None) -> None:
+        """Continue from a checkpoint (steps, t, state[, compensation]) of an integrator made
+        with the same lattice, method, options and t0: bit-for-bit for fixed-step methods (with
+        compensated sums only if `compensation` is given; otherwise the carry restarts at 0)."""
         y = as_float_array(state, "state", self._shape)
+        c = None
+        if compensation is not None:
+            if not self.compensated_sums:
+                raise ValueError("compensation: this integrator does not use compensated sums")
+            c = as_float_array(compensation, "compensation", self._shape)
         self._h.restore(_int(steps, "steps", C_LONG), _real(t, "t"), y)
+        if c is not None:
+            self._h.set_compensation(c)
 
     def advance(self, t: float) -> np.ndarray:
         """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
@@ -284,7 +316,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
               rtol: float = ll.RTOL, atol: float = ll.ATOL, sample_every: float | None = None,
               times=None, y0=None, deviations=None, t0: float = 0.0, store_states: bool = False,
               stop_on=None, chunk: int = 4096, on_failure: str = "raise",
-              progress: bool = False) -> Run:
+              progress: bool = False, compensated_sums: bool = False) -> Run:
     """Integrate a lattice from `y0` to `t_end`, sampling mode energies and energy on the way.
 
     Parameters
@@ -302,6 +334,9 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         Step of the fixed-step methods (default 0.01); an initial step for adaptive ones.
     rtol, atol : float, optional
         Relative and absolute tolerances of the adaptive methods.
+    compensated_sums : bool, optional
+        ARKODE SPRKStep methods ("sprk-*", SUNDIALS >= 6.6 builds) only: compensated summation
+        of the increments, less round-off growth (ValueError for other methods).
     sample_every : float, optional
         Sampling interval (default: (t_end - t0)/1000). Exclusive with `times`.
     times : array_like, optional
@@ -353,6 +388,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure must be 'raise' or 'return', got {on_failure!r}")
+    _compensated_sums(compensated_sums, method)
     t0, t_end = _real(t0, "t0"), _real(t_end, "t_end")
     if not math.isfinite(t0):
         raise ValueError(f"t0 must be finite (got {t0:g})")
@@ -399,14 +435,14 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
                              "sample less often)")
     criteria_events(stop_on)       # bad criteria raise here, before anything runs
     return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
-                      chunk, on_failure, progress, stop_on)
+                      chunk, on_failure, progress, stop_on, compensated_sums)
 
 
 def _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states, chunk,
-               on_failure, progress=False, criteria=None):
+               on_failure, progress=False, criteria=None, compensated_sums=False):
     N = lattice.N
     integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol,
-                       criteria=criteria)
+                       criteria=criteria, compensated_sums=compensated_sums)
     parts = {"t": [], "ek": [], "en": [], "st": []}
     message, completed, status = "", True, ll.ERR_NONFINITE
     bar = None
@@ -485,7 +521,7 @@ def _lattice_integrate(self: Lattice, t_end: float, *, method: str = "yoshida4",
                        sample_every: float | None = None, times=None, y0=None, deviations=None,
                        t0: float = 0.0, store_states: bool = False, stop_on=None,
                        chunk: int = 4096, on_failure: str = "raise",
-                       progress: bool = False) -> Run:
+                       progress: bool = False, compensated_sums: bool = False) -> Run:
     """Integrate this lattice: ``fputlab.integrate(self, t_end, ...)``.
 
     Parameters
@@ -519,6 +555,8 @@ def _lattice_integrate(self: Lattice, t_end: float, *, method: str = "yoshida4",
         samples with ``completed=False``.
     progress : bool, optional
         A progress bar with ETA (tqdm.auto).
+    compensated_sums : bool, optional
+        SPRKStep methods ("sprk-*") only: compensated summation (ValueError otherwise).
 
     Returns
     -------
@@ -531,7 +569,8 @@ def _lattice_integrate(self: Lattice, t_end: float, *, method: str = "yoshida4",
     return integrate(self, t_end, method=method, dt=dt, rtol=rtol, atol=atol,
                      sample_every=sample_every, times=times, y0=y0, deviations=deviations,
                      t0=t0, store_states=store_states, stop_on=stop_on, chunk=chunk,
-                     on_failure=on_failure, progress=progress)
+                     on_failure=on_failure, progress=progress,
+                     compensated_sums=compensated_sums)
 
 
 # The convenience method of the model layer's Lattice, defined here so that fputlab.lattice
@@ -543,7 +582,8 @@ Lattice.integrate = _lattice_integrate
 
 def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: str = "yoshida4",
                  t0: float = 0.0, dt: float | None = None, rtol: float = ll.RTOL,
-                 atol: float = ll.ATOL) -> Iterator[tuple[float, np.ndarray]]:
+                 atol: float = ll.ATOL,
+                 compensated_sums: bool = False) -> Iterator[tuple[float, np.ndarray]]:
     """Stream (t, state) pairs without keeping the trajectory.
 
     Parameters
@@ -564,6 +604,8 @@ def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: s
         Step of the fixed-step methods (default 0.01).
     rtol, atol : float, optional
         Tolerances of the adaptive methods.
+    compensated_sums : bool, optional
+        SPRKStep methods ("sprk-*") only: compensated summation (see `Integrator`).
 
     Yields
     ------
@@ -578,6 +620,7 @@ def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: s
         [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
     if dt is None and not method_info(method)["adaptive"]:
         dt = ll.DT
-    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol)
+    integ = Integrator(lattice, state0, method=method, t0=t0, dt=dt, rtol=rtol, atol=atol,
+                       compensated_sums=compensated_sums)
     for t in as_float_array(times, "times"):
         yield float(t), integ.advance(t)

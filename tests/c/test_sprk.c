@@ -225,11 +225,13 @@ static void test_off_grid(void)
 }
 
 /* A restart from a checkpoint (fpl_integrator_restore at step n) continues bit for bit, with
- * deviation vectors; with compensated sums up to the dropped carry (round-off). */
+ * deviation vectors; with compensated sums only when the carry is restored too
+ * (fpl_integrator_set_compensation), without it up to the dropped carry (round-off). Samples off
+ * the grid do not perturb a compensated run either. */
 static void test_restart(void)
 {
     fpl_lattice *lat = NULL;
-    double y0[2 * LEN], a[2 * LEN], b[2 * LEN], mid[2 * LEN];
+    double y0[2 * LEN], a[2 * LEN], b[2 * LEN], mid[2 * LEN], carry[2 * LEN], c[2 * LEN];
     orbit(&lat, y0);
     for (int i = 0; i < LEN; i++) y0[LEN + i] = sin(1.0 + i);
     for (int comp = 0; comp < 2; comp++) {
@@ -244,19 +246,53 @@ static void test_restart(void)
         CHECK_OK(fpl_integrator_create(lat, "sprk-yoshida6", 1, &opt, 0.0, y0, &h));
         CHECK_OK(fpl_integrator_advance(h, 3.705, mid)); /* off the grid: state kept at 3.70 */
         CHECK_OK(fpl_integrator_get_state(h, mid));
+        const int got = fpl_integrator_get_compensation(h, carry);
+        CHECK(comp ? got == FPL_OK : got == FPL_ERR_ARG, "get_compensation: status %d", got);
+        if (!comp) CHECK(strstr(fpl_last_error(), "compensated") != NULL, "%s", fpl_last_error());
+        double cmax = 0.0;
+        for (int i = 0; comp && i < 2 * LEN; i++) cmax = fmax(cmax, fabs(carry[i]));
+        if (comp) CHECK(cmax > 0.0 && cmax < 1e-14, "carry is round-off and non-zero (%.2e)", cmax);
         const long n = fpl_integrator_steps(h);
         const double t = fpl_integrator_time(h);
+        CHECK_OK(fpl_integrator_advance(h, 10.0, b)); /* sampled run vs the unsampled one */
+        CHECK(max_abs_diff(a, b, 2 * LEN) == 0.0, "an off-grid sample does not perturb the run "
+              "(compensated sums %d: %.2e)", comp, max_abs_diff(a, b, 2 * LEN));
         fpl_integrator_free(&h);
         CHECK(n == 370, "grid step count %ld", n);
-        CHECK_OK(fpl_integrator_create(lat, "sprk-yoshida6", 1, &opt, 0.0, y0, &g));
-        CHECK_OK(fpl_integrator_restore(g, n, t, mid));
-        CHECK_OK(fpl_integrator_advance(g, 10.0, b));
-        fpl_integrator_free(&g);
-        const double d = max_abs_diff(a, b, 2 * LEN);
-        printf("restart at step %ld (compensated sums %d): max |difference| %.2e\n", n, comp, d);
-        CHECK(comp ? d < 1e-14 : d == 0.0, "restart continues %s (%.2e)",
-              comp ? "to round-off" : "bit for bit", d);
+        for (int with_carry = comp; with_carry >= 0; with_carry--) {
+            CHECK_OK(fpl_integrator_create(lat, "sprk-yoshida6", 1, &opt, 0.0, y0, &g));
+            CHECK_OK(fpl_integrator_advance(g, 1.0, b)); /* a carry of its own, then restore */
+            CHECK_OK(fpl_integrator_restore(g, n, t, mid));
+            if (comp) {
+                CHECK_OK(fpl_integrator_get_compensation(g, c));
+                CHECK(max_abs_diff(c, (double[2 * LEN]){0}, 2 * LEN) == 0.0,
+                      "restore zeroes the carry");
+            }
+            if (with_carry) CHECK_OK(fpl_integrator_set_compensation(g, carry));
+            CHECK_OK(fpl_integrator_advance(g, 10.0, b));
+            fpl_integrator_free(&g);
+            const double d = max_abs_diff(a, b, 2 * LEN);
+            printf("restart at step %ld (compensated sums %d, carry restored %d): max |difference| "
+                   "%.2e\n", n, comp, with_carry, d);
+            if (comp && !with_carry)
+                CHECK(d > 0.0 && d < 1e-14, "without the carry: round-off apart (%.2e)", d);
+            else
+                CHECK(d == 0.0, "restart continues bit for bit (%.2e)", d);
+        }
     }
+    /* compensated_sums is for SPRKStep only; a non-finite carry is refused */
+    fpl_integrator_options opt;
+    fpl_integrator_options_init(&opt);
+    opt.compensated_sums = 1;
+    fpl_integrator *h = NULL;
+    CHECK(fpl_integrator_create(lat, "yoshida4", 0, &opt, 0.0, y0, &h) == FPL_ERR_ARG && !h,
+          "compensated_sums refused for yoshida4");
+    CHECK(strstr(fpl_last_error(), "compensated_sums") != NULL, "%s", fpl_last_error());
+    CHECK_OK(fpl_integrator_create(lat, "sprk-mclachlan4", 0, &opt, 0.0, y0, &h));
+    for (int i = 0; i < LEN; i++) c[i] = i == 3 ? NAN : 0.0;
+    CHECK(fpl_integrator_set_compensation(h, c) == FPL_ERR_ARG &&
+          strstr(fpl_last_error(), "carry[3]") != NULL, "%s", fpl_last_error());
+    fpl_integrator_free(&h);
     fpl_lattice_free(&lat);
 }
 

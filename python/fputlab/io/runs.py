@@ -17,7 +17,7 @@ from .. import _lowlevel as ll
 from .._arrays import as_float_array
 from .._errors import FputlabError, last_error
 from .._validate import C_LONG, C_U64, _int, _real
-from ..integrate import Integrator, check_steps, method_info
+from ..integrate import Integrator, _compensated_sums, check_steps, method_info
 from ..lattice import Lattice
 from .files import (ResultsFile, _check_output_paths, _RunInfo, _verify_resume,
                     load_checkpoint, write_checkpoint)
@@ -286,7 +286,8 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
                      checkpoint_every_steps: int | None = None,
                      checkpoint_every_seconds: float | None = 600.0, resume: bool = True,
                      chunk_rows: int = 256, progress: bool = False,
-                     max_steps_per_segment: int = 100_000, overwrite: bool = False) -> RunSummary:
+                     max_steps_per_segment: int = 100_000, overwrite: bool = False,
+                     compensated_sums: bool = False) -> RunSummary:
     """Integrate from t = 0 to t_end, writing samples (t, mode energies, energy, optionally the
     states) to the HDF5 file `out` as the run goes.
 
@@ -337,6 +338,10 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
         Most fixed steps between two looks at the clock and the signals.
     overwrite : bool, optional
         Replace an existing `out` that is not continued from its checkpoint.
+    compensated_sums : bool, optional
+        SPRKStep methods ("sprk-*") only: compensated summation. It is kept in the checkpoint
+        with the summation's carry, so that a restart continues bit for bit; a resume must give
+        the same value.
 
     Returns
     -------
@@ -359,6 +364,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     if not (math.isfinite(t_end) and t_end > 0):
         raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
     adaptive = method_info(method)["adaptive"]
+    _compensated_sums(compensated_sums, method)
     if dt is None and not adaptive:
         dt = ll.DT
     every = t_end / 1000 if sample_every is None else _real(sample_every, "sample_every")
@@ -386,7 +392,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
         [orbit[None, :], as_float_array(deviations, "deviations", last=2 * N).reshape(-1, 2 * N)])
 
     integ = Integrator(lattice, state0, method=method, dt=dt, rtol=rtol, atol=atol,
-                       criteria=stop_on)
+                       criteria=stop_on, compensated_sums=compensated_sums)
     info = _RunInfo(lattice, "simulate", method, integ.dt, rtol, atol, 0.0, integ.n_dev,
                     store_states, chunk_rows)
     resumed = None
