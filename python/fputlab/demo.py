@@ -8,7 +8,6 @@ t = 5.6e4 (the FPUT recurrence)."""
 from __future__ import annotations
 
 import argparse
-import json
 import time
 
 import numpy as np

@@ -295,7 +295,9 @@ def check_steps(span: float, dt: float | None, name: str, value: float) -> None:
                          "than 9e18")
 
 
-def _sample_times(t0, t_end, sample_every, times):
+def _sample_times(t0: float, t_end: float, sample_every, times) -> np.ndarray:
+    """The sample grid of a run (also of the modal systems in fputlab.reduction): `times`
+    as given, or t0, t0 + every, ... up to t_end (every = sample_every, default (t_end - t0)/1000)."""
     if times is not None:
         if sample_every is not None:
             raise ValueError("give either times or sample_every, not both")
@@ -303,6 +305,8 @@ def _sample_times(t0, t_end, sample_every, times):
         if ts.ndim != 1:
             raise ValueError(f"times has shape {ts.shape}, expected 1-D")
         return ts
+    if not (math.isfinite(t_end) and t_end >= t0):
+        raise ValueError(f"t_end must be finite and >= t0 = {t0:g} (got {t_end:g})")
     if t_end == t0:
         return np.array([t0])
     every = (t_end - t0) / 1000 if sample_every is None else _real(sample_every, "sample_every")

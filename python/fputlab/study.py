@@ -63,8 +63,8 @@ class StudySpec:
     t_end: float = 1e8
     method: str = "srkn14a6"
     dt: float = 0.5
-    rtol: float = 1e-10
-    atol: float = 1e-12
+    rtol: float = ll.RTOL
+    atol: float = ll.ATOL
     renorm_interval: float = 1.0
     n_samples: int = 400
     sali_threshold: float = 1e-8

@@ -63,22 +63,6 @@ class _Cadence:
             (self.seconds and time.monotonic() - self.last_time >= self.seconds))
 
 
-class _Cadence:
-    """When the next checkpoint is due: every `steps` integrator steps and/or `seconds`."""
-
-    def __init__(self, path, steps: int | None, seconds: float | None, steps_now: int):
-        self.path, self.steps, self.seconds = path, steps, seconds
-        self.mark(steps_now)
-
-    def mark(self, steps_now: int) -> None:
-        self.last_steps, self.last_time = steps_now, time.monotonic()
-
-    def due(self, steps_now: int) -> bool:
-        return self.path is not None and bool(
-            (self.steps and steps_now - self.last_steps >= self.steps) or
-            (self.seconds and time.monotonic() - self.last_time >= self.seconds))
-
-
 @dataclass
 class RunSummary:
     """How a file-backed run ended."""

@@ -13,34 +13,15 @@ from .._display import ResultMixin
 from .._arrays import as_float_array
 from .._errors import IntegrationError, check
 from .._validate import _finite_real, _real
+from ..integrate import _sample_times
 from ..lattice import Lattice
 from .coefficients import TwoModeCoefficients
-
 
 
 def _scheme(method: str):
     if not isinstance(method, str):
         raise TypeError(f"method must be a string, got {type(method).__name__}")
     return ll.splitting_lookup(method)
-
-
-def _sample_times(t0: float, t_end: float, sample_every, times) -> np.ndarray:
-    if times is not None:
-        if sample_every is not None:
-            raise ValueError("give either times or sample_every, not both")
-        ts = as_float_array(times, "times")
-        if ts.ndim != 1:
-            raise ValueError(f"times has shape {ts.shape}, expected 1-D")
-        return ts
-    if not (math.isfinite(t_end) and t_end >= t0):
-        raise ValueError(f"t_end must be finite and >= t0 = {t0:g} (got {t_end:g})")
-    if t_end == t0:
-        return np.array([t0])
-    every = (t_end - t0) / 1000 if sample_every is None else _real(sample_every, "sample_every")
-    if not (math.isfinite(every) and every > 0):
-        raise ValueError(f"sample_every must be finite and > 0 (got {every:g})")
-    n = int(math.floor((t_end - t0) / every * (1 + 1e-12)))
-    return t0 + every * np.arange(n + 1)
 
 
 @dataclass(repr=False)
