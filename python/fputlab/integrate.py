@@ -93,7 +93,7 @@ class Integrator:
         Stopping criteria of this run, e.g. ``[("stretch", 4.0)]`` (see `fputlab.blowup`):
         when one fires, `advance` stops at the event and `event` says which and when.
     compensated_sums : bool, optional
-        ARKODE SPRKStep methods ("sprk-*") only: compensated summation of the increments, which
+        ARKODE SPRKStep methods (``sprk-*``) only: compensated summation of the increments, which
         removes most of the round-off growth (ValueError for any other method). The carry of
         the summation is part of the state: `compensation` reads it, `restore` takes it.
     """
@@ -339,7 +339,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     rtol, atol : float, optional
         Relative and absolute tolerances of the adaptive methods.
     compensated_sums : bool, optional
-        ARKODE SPRKStep methods ("sprk-*", SUNDIALS >= 6.6 builds) only: compensated summation
+        ARKODE SPRKStep methods (``sprk-*``, SUNDIALS >= 6.6 builds) only: compensated summation
         of the increments, less round-off growth (ValueError for other methods).
     sample_every : float, optional
         Sampling interval (default: (t_end - t0)/1000). Exclusive with `times`.
@@ -560,7 +560,7 @@ def _lattice_integrate(self: Lattice, t_end: float, *, method: str = "yoshida4",
     progress : bool, optional
         A progress bar with ETA (tqdm.auto).
     compensated_sums : bool, optional
-        SPRKStep methods ("sprk-*") only: compensated summation (ValueError otherwise).
+        SPRKStep methods (``sprk-*``) only: compensated summation (ValueError otherwise).
 
     Returns
     -------
@@ -609,7 +609,7 @@ def iter_samples(lattice: Lattice, times, *, y0=None, deviations=None, method: s
     rtol, atol : float, optional
         Tolerances of the adaptive methods.
     compensated_sums : bool, optional
-        SPRKStep methods ("sprk-*") only: compensated summation (see `Integrator`).
+        SPRKStep methods (``sprk-*``) only: compensated summation (see `Integrator`).
 
     Yields
     ------

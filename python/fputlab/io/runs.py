@@ -323,7 +323,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     overwrite : bool, optional
         Replace an existing `out` that is not continued from its checkpoint.
     compensated_sums : bool, optional
-        SPRKStep methods ("sprk-*") only: compensated summation. It is kept in the checkpoint
+        SPRKStep methods (``sprk-*``) only: compensated summation. It is kept in the checkpoint
         with the summation's carry, so that a restart continues bit for bit; a resume must give
         the same value.
 
