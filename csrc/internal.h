@@ -55,6 +55,9 @@ typedef struct fpl_model_ops {
     const char *name;
     /* cl, cn, s, minv of particle j from its variability v_j (called once, at lattice create). */
     void (*coefficients)(double v, double *cl, double *cn, double *s, double *minv);
+    /* x^(m) += h minv p^(m) for the orbit and the n_dev deviation vectors (ctx: fpl_lattice_ctx;
+     * the drift of the lattice's fpl_split_system; stage unused). */
+    void (*drift)(void *ctx, double *y, int stage, double h);
     /* p += h F(x) and dp^(m) += h J(x) dx^(m), m < n_dev (y is the full state); ctx is an
      * fpl_lattice_ctx (the kick of the lattice's fpl_split_system, called directly). */
     void (*kick)(void *ctx, double *y, double h);

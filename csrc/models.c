@@ -156,6 +156,47 @@ __attribute__((noipa)) static void kick_homogeneous_short(const fpl_lattice *lat
     }
 }
 
+/* The orbit and one or two deviation vectors in one pass: the curvatures kappa are formed where
+ * they are used (KAP_H of the same two bonds, the same values the kappa array would hold), so
+ * nothing but the state is streamed and kappa is not re-read once per vector (out of cache that
+ * pass cost ~1.6x the plain-C roofline, benchmarks/roofline.c). Same expressions in the same
+ * order as the vector-by-vector form below: bit-identical results. */
+FPL_INLINE void kick_orbit_tangent1_homogeneous(int n, const double *restrict x,
+                                                double *restrict p, const double *restrict u,
+                                                double *restrict q, double a, double b, double h)
+{
+    for (int i = 1; i < n - 1; i++) {
+        const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
+        p[i] += h * (PHI_H(dr) - PHI_H(dl));
+        const double kl = KAP_H(dl), kr = KAP_H(dr);
+        q[i] += h * (kr * (u[i + 1] - u[i]) - kl * (u[i] - u[i - 1]));
+    }
+}
+
+FPL_INLINE void kick_orbit_tangent2_homogeneous(int n, const double *restrict x,
+                                                double *restrict p, const double *restrict u,
+                                                double *restrict q, const double *restrict w,
+                                                double *restrict r, double a, double b, double h)
+{
+    for (int i = 1; i < n - 1; i++) {
+        const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
+        p[i] += h * (PHI_H(dr) - PHI_H(dl));
+        const double kl = KAP_H(dl), kr = KAP_H(dr);
+        q[i] += h * (kr * (u[i + 1] - u[i]) - kl * (u[i] - u[i - 1]));
+        r[i] += h * (kr * (w[i + 1] - w[i]) - kl * (w[i] - w[i - 1]));
+    }
+}
+
+/* dp^(m)_0 and dp^(m)_{n-1}: the particles next to the walls (bonds 0, 1, n-1, n). */
+FPL_INLINE void kick_tangent_ends(int n, const double *dx, double *dp, double k0, double k1,
+                                  double km, double kn, double h)
+{
+    const double t0 = k0 * dx[0], t1 = k1 * (dx[1] - dx[0]);
+    const double tm = km * (dx[n - 1] - dx[n - 2]), tn = -kn * dx[n - 1];
+    dp[0] += h * (t1 - t0);
+    dp[n - 1] += h * (tn - tm);
+}
+
 FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
 {
     const fpl_lattice_ctx *c = ctx;
@@ -167,30 +208,69 @@ FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
         kick_homogeneous_short(lat, w, y, n_dev, h);
         return;
     }
+    const size_t stride = 2 * (size_t)n;   /* one vector [x p] */
     const double *x = y;
     double *p = y + n, *kap = w->kappa;
     /* boundary bonds 0 (wall to particle 0) and n (particle n-1 to wall), and bonds 1, n-1 */
     const double d0 = x[0], d1 = x[1] - x[0];
     const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
     const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
-    if (n_dev > 0) {
-        kick_orbit_homogeneous(n, x, p, a, b, h, kap);
-        kap[0] = KAP_H(d0);
-        kap[n - 1] = KAP_H(dm);
-        kap[n] = KAP_H(dn);
-    } else {
+    const double k0 = KAP_H(d0), k1 = KAP_H(d1), km = KAP_H(dm), kn = KAP_H(dn);
+    if (n_dev == 0) {
         kick_orbit_homogeneous(n, x, p, a, b, h, NULL);
+    } else if (n_dev == 1) {
+        kick_orbit_tangent1_homogeneous(n, x, p, y + stride, y + stride + n, a, b, h);
+    } else if (n_dev == 2) {
+        kick_orbit_tangent2_homogeneous(n, x, p, y + stride, y + stride + n, y + 2 * stride,
+                                        y + 2 * stride + n, a, b, h);
+    } else {
+        /* more vectors (GALI_k, k > 2): kappa once into the scratch array, then one pass each */
+        kick_orbit_homogeneous(n, x, p, a, b, h, kap);
+        kap[0] = k0;
+        kap[n - 1] = km;
+        kap[n] = kn;
+        for (int m = 0; m < n_dev; m++) {
+            const double *dx = y + stride * (size_t)(m + 1);
+            kick_tangent_homogeneous(n, dx, (double *)dx + n, kap, h);
+        }
     }
     p[0] += h * (phi1 - phi0);
     p[n - 1] += h * (phin - phim);
     for (int m = 0; m < n_dev; m++) {
-        const double *dx = y + 2 * (size_t)n * (size_t)(m + 1);
-        double *dp = (double *)dx + n;
-        kick_tangent_homogeneous(n, dx, dp, kap, h);
-        const double t0 = kap[0] * dx[0], t1 = kap[1] * (dx[1] - dx[0]);
-        const double tm = kap[n - 1] * (dx[n - 1] - dx[n - 2]), tn = -kap[n] * dx[n - 1];
-        dp[0] += h * (t1 - t0);
-        dp[n - 1] += h * (tn - tm);
+        const double *dx = y + stride * (size_t)(m + 1);
+        kick_tangent_ends(n, dx, (double *)dx + n, k0, k1, km, kn, h);
+    }
+}
+
+/* ---- drifts ------------------------------------------------------------------------------ */
+
+/* Kinetic drift x^(m) += h minv p^(m) for the orbit and every deviation vector (the drift is
+ * linear, so its tangent map is itself). Unit masses skip minv: (h * 1) * p == h * p exactly,
+ * so both forms give the same bits where minv = 1, and the unit form streams one array less. */
+FPL_HOT static void drift_unit_mass(void *ctx, double *y, int stage, double h)
+{
+    (void)stage;
+    const fpl_lattice_ctx *c = ctx;
+    const int n = c->lat->n, n_dev = c->n_dev;
+    for (int m = 0; m <= n_dev; m++) {
+        double *restrict x = y + 2 * (size_t)n * m;
+        const double *restrict p = x + n;
+        for (int i = 0; i < n; i++)
+            x[i] += h * p[i];
+    }
+}
+
+FPL_HOT static void drift_masses(void *ctx, double *y, int stage, double h)
+{
+    (void)stage;
+    const fpl_lattice_ctx *c = ctx;
+    const int n = c->lat->n, n_dev = c->n_dev;
+    const double *restrict minv = c->lat->minv;
+    for (int m = 0; m <= n_dev; m++) {
+        double *restrict x = y + 2 * (size_t)n * m;
+        const double *restrict p = x + n;
+        for (int i = 0; i < n; i++)
+            x[i] += h * minv[i] * p[i];
     }
 }
 
@@ -295,11 +375,12 @@ static void coefficients_nonlinear(double v, double *cl, double *cn, double *s, 
 
 /* Adding a model = adding one entry (and its FPL_MODEL_ constant in fputlab/lattice.h). */
 static const fpl_model_ops ops_table[] = {
-    {FPL_MODEL_HOMOGENEOUS, "homogeneous", coefficients_homogeneous, kick_homogeneous,
+    {FPL_MODEL_HOMOGENEOUS, "homogeneous", coefficients_homogeneous, drift_unit_mass,
+     kick_homogeneous, energy_hamiltonian},
+    {FPL_MODEL_HAMILTONIAN, "hamiltonian", coefficients_hamiltonian, drift_masses, kick_generic,
      energy_hamiltonian},
-    {FPL_MODEL_HAMILTONIAN, "hamiltonian", coefficients_hamiltonian, kick_generic,
-     energy_hamiltonian},
-    {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, kick_generic, energy_plain},
+    {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, drift_unit_mass, kick_generic,
+     energy_plain},
 };
 #define N_MODELS (sizeof ops_table / sizeof ops_table[0])
 

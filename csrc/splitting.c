@@ -79,28 +79,12 @@ int fpl_split_grid_advance(const fpl_splitting *scheme, const fpl_split_system *
 
 /* ---- the lattice as a split system --------------------------------------------------------- */
 
-/* Kinetic drift: x^(m) += h minv p^(m) for the orbit and every deviation vector (the drift is
- * linear, so its tangent map is itself). ctx: the fpl_split_run. */
-FPL_HOT static void lattice_drift(void *ctx, double *y, int stage, double h)
-{
-    (void)stage;
-    const fpl_lattice_ctx *c = ctx;
-    const int n = c->lat->n, n_dev = c->n_dev;
-    const double *restrict minv = c->lat->minv;
-    for (int m = 0; m <= n_dev; m++) {
-        double *restrict x = y + 2 * (size_t)n * m;
-        const double *restrict p = x + n;
-        for (int i = 0; i < n; i++)
-            x[i] += h * minv[i] * p[i];
-    }
-}
-
 int fpl_split_run_init(fpl_split_run *run, const fpl_splitting *scheme, const fpl_lattice *lat,
                        fpl_work *work, int n_dev)
 {
     *run = (fpl_split_run){{lat, work, n_dev}, scheme, NULL, {0, NULL, NULL, NULL, NULL}};
-    run->sys = (fpl_split_system){2L * lat->n * (n_dev + 1), lattice_drift, lat->ops->kick, NULL,
-                                  run};
+    run->sys = (fpl_split_system){2L * lat->n * (n_dev + 1), lat->ops->drift, lat->ops->kick,
+                                  NULL, run};
     return scheme->run_setup ? scheme->run_setup(scheme, run) : FPL_OK;
 }
 
