@@ -120,8 +120,7 @@ static int split_advance_events(fpl_integrator *h, long n_target, double *work)
         long block = n_target - h->n_steps;
         if (block > EVENT_BLOCK) block = EVENT_BLOCK;
         memcpy(start, h->y, sizeof(double) * (size_t)h->dim);
-        for (long k = 0; k < block; k++)
-            fpl_split_step(s, &run->sys, h->y, dt);
+        fpl_split_steps(s, &run->sys, h->y, dt, block);
         double g_new = event_min(h, h->y, &which);
         if (g_new <= 0.0) {
             /* replay the block one step at a time */

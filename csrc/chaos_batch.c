@@ -531,7 +531,7 @@ static void run_lone(fpl_chaos_batch *B, double *y, int s, long nsteps, double d
     for (long done = 0; done < nsteps;) {
         long block = B->ev.n > 0 && check ? (nsteps - done < EVENT_BLOCK ? nsteps - done : EVENT_BLOCK)
                                           : nsteps - done;
-        for (long i = 0; i < block; i++) fpl_split_step(sch, &run.sys, ly, dt);
+        fpl_split_steps(sch, &run.sys, ly, dt, block);
         done += block;
         if (B->ev.n > 0 && check && !B->fired[s]) {
             double g[8];

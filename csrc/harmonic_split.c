@@ -81,6 +81,7 @@ int fpl_harmonic_run_setup(const fpl_splitting *scheme, fpl_split_run *run)
     run->sys.drift = harmonic_drift;
     run->sys.kick = harmonic_kick;
     run->sys.begin_step = harmonic_begin_step;
+    run->sys.steps = NULL;   /* the model's fused stepper is the kinetic split's */
     return FPL_OK;
 }
 

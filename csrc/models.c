@@ -122,14 +122,20 @@ FPL_HOT static void kick_generic(void *ctx, double *y, double h)
  * bit-identical results. */
 #define PHI_H(d) ((d) + (d) * (d) * (a + b * (d)))
 #define KAP_H(d) (1.0 + (d) * (2.0 * a + 3.0 * b * (d)))
+/* The loops take `cubic` as a constant (their callers are inlined with 0 or 1): with beta = 0 the
+ * cubic terms are dropped, 4 of ~20 flops a particle. Same bits: with b = 0, a + b d == a and
+ * 2 a + 3 b d == 2 a exactly (finite d), so PHI_H == d + (d d) a and KAP_H == 1 + d (2 a). */
+#define PHI_C(d) (cubic ? PHI_H(d) : (d) + (d) * (d) * a)
+#define KAP_C(d) (cubic ? KAP_H(d) : 1.0 + (d) * (2.0 * a))
 
 FPL_INLINE void kick_orbit_homogeneous(int n, const double *restrict x, double *restrict p,
-                                       double a, double b, double h, double *restrict kap)
+                                       double a, double b, double h, double *restrict kap,
+                                       const int cubic)
 {
     for (int i = 1; i < n - 1; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
-        p[i] += h * (PHI_H(dr) - PHI_H(dl));
-        if (kap) kap[i] = KAP_H(dl);
+        p[i] += h * (PHI_C(dr) - PHI_C(dl));
+        if (kap) kap[i] = KAP_C(dl);
     }
 }
 
@@ -163,12 +169,13 @@ __attribute__((noipa)) static void kick_homogeneous_short(const fpl_lattice *lat
  * order as the vector-by-vector form below: bit-identical results. */
 FPL_INLINE void kick_orbit_tangent1_homogeneous(int n, const double *restrict x,
                                                 double *restrict p, const double *restrict u,
-                                                double *restrict q, double a, double b, double h)
+                                                double *restrict q, double a, double b, double h,
+                                                const int cubic)
 {
     for (int i = 1; i < n - 1; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
-        p[i] += h * (PHI_H(dr) - PHI_H(dl));
-        const double kl = KAP_H(dl), kr = KAP_H(dr);
+        p[i] += h * (PHI_C(dr) - PHI_C(dl));
+        const double kl = KAP_C(dl), kr = KAP_C(dr);
         q[i] += h * (kr * (u[i + 1] - u[i]) - kl * (u[i] - u[i - 1]));
     }
 }
@@ -176,12 +183,13 @@ FPL_INLINE void kick_orbit_tangent1_homogeneous(int n, const double *restrict x,
 FPL_INLINE void kick_orbit_tangent2_homogeneous(int n, const double *restrict x,
                                                 double *restrict p, const double *restrict u,
                                                 double *restrict q, const double *restrict w,
-                                                double *restrict r, double a, double b, double h)
+                                                double *restrict r, double a, double b, double h,
+                                                const int cubic)
 {
     for (int i = 1; i < n - 1; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
-        p[i] += h * (PHI_H(dr) - PHI_H(dl));
-        const double kl = KAP_H(dl), kr = KAP_H(dr);
+        p[i] += h * (PHI_C(dr) - PHI_C(dl));
+        const double kl = KAP_C(dl), kr = KAP_C(dr);
         q[i] += h * (kr * (u[i + 1] - u[i]) - kl * (u[i] - u[i - 1]));
         r[i] += h * (kr * (w[i + 1] - w[i]) - kl * (w[i] - w[i - 1]));
     }
@@ -197,9 +205,9 @@ FPL_INLINE void kick_tangent_ends(int n, const double *dx, double *dp, double k0
     dp[n - 1] += h * (tn - tm);
 }
 
-FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
+FPL_INLINE void kick_homogeneous_body(const fpl_lattice_ctx *c, double *y, double h,
+                                      const int cubic)
 {
-    const fpl_lattice_ctx *c = ctx;
     const fpl_lattice *lat = c->lat;
     fpl_work *w = c->work;
     const int n = lat->n, n_dev = c->n_dev;
@@ -217,15 +225,15 @@ FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
     const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
     const double k0 = KAP_H(d0), k1 = KAP_H(d1), km = KAP_H(dm), kn = KAP_H(dn);
     if (n_dev == 0) {
-        kick_orbit_homogeneous(n, x, p, a, b, h, NULL);
+        kick_orbit_homogeneous(n, x, p, a, b, h, NULL, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent1_homogeneous(n, x, p, y + stride, y + stride + n, a, b, h);
+        kick_orbit_tangent1_homogeneous(n, x, p, y + stride, y + stride + n, a, b, h, cubic);
     } else if (n_dev == 2) {
         kick_orbit_tangent2_homogeneous(n, x, p, y + stride, y + stride + n, y + 2 * stride,
-                                        y + 2 * stride + n, a, b, h);
+                                        y + 2 * stride + n, a, b, h, cubic);
     } else {
         /* more vectors (GALI_k, k > 2): kappa once into the scratch array, then one pass each */
-        kick_orbit_homogeneous(n, x, p, a, b, h, kap);
+        kick_orbit_homogeneous(n, x, p, a, b, h, kap, cubic);
         kap[0] = k0;
         kap[n - 1] = km;
         kap[n] = kn;
@@ -247,10 +255,8 @@ FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
 /* Kinetic drift x^(m) += h minv p^(m) for the orbit and every deviation vector (the drift is
  * linear, so its tangent map is itself). Unit masses skip minv: (h * 1) * p == h * p exactly,
  * so both forms give the same bits where minv = 1, and the unit form streams one array less. */
-FPL_HOT static void drift_unit_mass(void *ctx, double *y, int stage, double h)
+FPL_INLINE void drift_unit_mass_body(const fpl_lattice_ctx *c, double *y, double h)
 {
-    (void)stage;
-    const fpl_lattice_ctx *c = ctx;
     const int n = c->lat->n, n_dev = c->n_dev;
     for (int m = 0; m <= n_dev; m++) {
         double *restrict x = y + 2 * (size_t)n * m;
@@ -258,6 +264,12 @@ FPL_HOT static void drift_unit_mass(void *ctx, double *y, int stage, double h)
         for (int i = 0; i < n; i++)
             x[i] += h * p[i];
     }
+}
+
+FPL_HOT static void drift_unit_mass(void *ctx, double *y, int stage, double h)
+{
+    (void)stage;
+    drift_unit_mass_body(ctx, y, h);
 }
 
 FPL_HOT static void drift_masses(void *ctx, double *y, int stage, double h)
@@ -272,6 +284,43 @@ FPL_HOT static void drift_masses(void *ctx, double *y, int stage, double h)
         for (int i = 0; i < n; i++)
             x[i] += h * minv[i] * p[i];
     }
+}
+
+/* ---- the homogeneous chain's fused stepper ---------------------------------------------- */
+
+FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        kick_homogeneous_body(c, y, h, 0);
+    else
+        kick_homogeneous_body(c, y, h, 1);
+}
+
+/* n steps of the scheme, drift and kick inlined (fpl_split_system.steps): the same operations in
+ * the same order as fpl_split_step on drift_unit_mass / kick_homogeneous. */
+FPL_INLINE void steps_homogeneous_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                       double *y, double dt, long nsteps, const int cubic)
+{
+    const int s = scheme->n_kicks;
+    const double *a = scheme->drift, *b = scheme->kick;
+    for (long k = 0; k < nsteps; k++) {
+        for (int i = 0; i < s; i++) {
+            drift_unit_mass_body(c, y, a[i] * dt);
+            kick_homogeneous_body(c, y, b[i] * dt, cubic);
+        }
+        drift_unit_mass_body(c, y, a[s] * dt);
+    }
+}
+
+FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, double *y,
+                                      double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
+    else
+        steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
 }
 
 /* ---- anharmonic force (for the harmonic-split schemes, harmonic_split.c) ---------------- */
@@ -376,11 +425,11 @@ static void coefficients_nonlinear(double v, double *cl, double *cn, double *s, 
 /* Adding a model = adding one entry (and its FPL_MODEL_ constant in fputlab/lattice.h). */
 static const fpl_model_ops ops_table[] = {
     {FPL_MODEL_HOMOGENEOUS, "homogeneous", coefficients_homogeneous, drift_unit_mass,
-     kick_homogeneous, energy_hamiltonian},
+     kick_homogeneous, steps_homogeneous, energy_hamiltonian},
     {FPL_MODEL_HAMILTONIAN, "hamiltonian", coefficients_hamiltonian, drift_masses, kick_generic,
-     energy_hamiltonian},
+     NULL, energy_hamiltonian},
     {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, drift_unit_mass, kick_generic,
-     energy_plain},
+     NULL, energy_plain},
 };
 #define N_MODELS (sizeof ops_table / sizeof ops_table[0])
 

@@ -264,7 +264,7 @@ static void modal_kick(void *ctx, double *z, double h)
 
 static fpl_split_system modal_system(second_order *so)
 {
-    return (fpl_split_system){2L * so->m, modal_drift, modal_kick, NULL, so};
+    return (fpl_split_system){2L * so->m, modal_drift, modal_kick, NULL, so, NULL};
 }
 
 /* The schemes' tables are applied here to the kinetic drift-kick split: refuse a scheme with a
@@ -513,7 +513,7 @@ int fpl_galerkin_advance(const fpl_splitting *scheme, fpl_galerkin *galerkin, do
     if (st) return st;
     second_order so = {galerkin->m, galerkin_accel, galerkin, galerkin->acc};
     const fpl_split_system sys = modal_system(&so);
-    for (long k = 0; k < nsteps; k++) fpl_split_step(scheme, &sys, z, dt);
+    fpl_split_steps(scheme, &sys, z, dt, nsteps);
     long bad = -1;
     if (!fpl_is_finite_array(z, len, &bad))
         return red_error(galerkin, FPL_ERR_NONFINITE,

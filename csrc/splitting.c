@@ -49,6 +49,10 @@ int fpl_splitting_lookup(const char *name, const fpl_splitting **out)
 void fpl_split_step(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
                     double dt)
 {
+    if (sys->steps) {
+        sys->steps(scheme, sys->ctx, y, dt, 1);
+        return;
+    }
     const int s = scheme->n_kicks;
     if (sys->begin_step) sys->begin_step(sys->ctx, scheme, dt);
     for (int i = 0; i < s; i++) {
@@ -56,6 +60,15 @@ void fpl_split_step(const fpl_splitting *scheme, const fpl_split_system *sys, do
         sys->kick(sys->ctx, y, scheme->kick[i] * dt);
     }
     sys->drift(sys->ctx, y, s, scheme->drift[s] * dt);
+}
+
+void fpl_split_steps(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
+                     double dt, long n)
+{
+    if (sys->steps)
+        sys->steps(scheme, sys->ctx, y, dt, n);
+    else
+        for (long k = 0; k < n; k++) fpl_split_step(scheme, sys, y, dt);
 }
 
 int fpl_split_grid_advance(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
@@ -66,7 +79,7 @@ int fpl_split_grid_advance(const fpl_splitting *scheme, const fpl_split_system *
         long chunk = n_target - *step;
         if (chunk > FPL_FINITE_CHECK_INTERVAL) chunk = FPL_FINITE_CHECK_INTERVAL;
         memcpy(backup, y, bytes);
-        for (long k = 0; k < chunk; k++) fpl_split_step(scheme, sys, y, dt);
+        fpl_split_steps(scheme, sys, y, dt, chunk);
         if (!fpl_is_finite_array(y, sys->dim, NULL)) {
             memcpy(y, backup, bytes);
             *step_bad = *step + chunk;
@@ -82,9 +95,9 @@ int fpl_split_grid_advance(const fpl_splitting *scheme, const fpl_split_system *
 int fpl_split_run_init(fpl_split_run *run, const fpl_splitting *scheme, const fpl_lattice *lat,
                        fpl_work *work, int n_dev)
 {
-    *run = (fpl_split_run){{lat, work, n_dev}, scheme, NULL, {0, NULL, NULL, NULL, NULL}};
+    *run = (fpl_split_run){{lat, work, n_dev}, scheme, NULL, {0, NULL, NULL, NULL, NULL, NULL}};
     run->sys = (fpl_split_system){2L * lat->n * (n_dev + 1), lat->ops->drift, lat->ops->kick,
-                                  NULL, run};
+                                  NULL, run, lat->ops->steps};
     return scheme->run_setup ? scheme->run_setup(scheme, run) : FPL_OK;
 }
 
@@ -114,8 +127,7 @@ int fpl_splitting_advance(const fpl_splitting *scheme, const fpl_lattice *lattic
     fpl_split_run run;
     st = fpl_split_run_init(&run, scheme, lattice, work, n_dev);
     if (!st) {
-        for (long k = 0; k < nsteps; k++)
-            fpl_split_step(scheme, &run.sys, y, dt);
+        fpl_split_steps(scheme, &run.sys, y, dt, nsteps);
         if (!fpl_is_finite_array(y, len, &bad))
             st = fpl_error(NULL, FPL_ERR_NONFINITE,
                            "state became non-finite (y[%ld] = %g) within %ld steps of dt = %g",
