@@ -47,6 +47,8 @@ T_END = 100.0
 TOLS = [10.0 ** -k for k in range(3, 13)]
 # fixed-step methods: steps per unit time swept (dt = 1/n divides T = 100 exactly)
 FIXED_STEPS = {
+    "dprkn12": [0.5, 0.8, 1, 1.25, 2, 2.5, 4],
+    "dprkn8": [1, 1.25, 2, 2.5, 4, 5, 8, 10],
     "srkn14a6": [1.25, 1.6, 2, 2.5, 4, 5, 8, 10, 20, 40],
     "aba864": [4, 5, 8, 10, 16, 20, 32, 40, 80, 160],
     "yoshida4": [50, 100, 200, 400, 800, 1600],
@@ -141,8 +143,9 @@ def cost_at(target, pts, ref_floor):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[8, 16, 32, 64, 4096])
-    ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--min-time", type=float, default=0.05)
+    ap.add_argument("--repeats", type=int, default=9,
+                    help="repeats per point, the minimum counts (the machine may be shared)")
+    ap.add_argument("--min-time", type=float, default=0.03)
     ap.add_argument("--cap", type=float, default=15.0, help="CPU seconds a single run may take")
     ap.add_argument("--json", help="write every point here")
     ap.add_argument("--fputlab-methods", nargs="+", help="default: " + " ".join(

@@ -187,7 +187,21 @@ struct fpl_splitting {
     int (*run_setup)(const fpl_splitting *scheme, fpl_split_run *run);
     void (*state_free)(void *state);
     const char *reference;
+    /* An explicit Runge-Kutta-Nystrom method instead of a composition (drift/kick NULL, n_kicks
+     * = its stages): run by rkn.c on the same system (run_setup = fpl_rkn_run_setup). */
+    const struct fpl_rkn_table *rkn;
 };
+
+/* Explicit RKN method for x'' = M^-1 F(x) (rkn.c): s stages
+ *   X_i = x + c_i h v + h^2 sum_{j<i} a_ij M^-1 K_j,  K_i = F(X_i),
+ *   x' = x + h v + h^2 sum_i b_i M^-1 K_i,  v' = v + h sum_i bp_i M^-1 K_i   (v = M^-1 p),
+ * not symplectic. a is s x s row-major (strictly lower triangular), c[0] = 0. */
+typedef struct fpl_rkn_table {
+    int stages;
+    const double *a, *b, *bp, *c;
+} fpl_rkn_table;
+int fpl_rkn_run_setup(const fpl_splitting *scheme, fpl_split_run *run);
+void fpl_rkn_state_free(void *state);
 
 /* A scheme run on a lattice: its system (by default the kinetic split: drift x += h p/m, kick
  * p += h F(x), each with the tangent map for the deviation vectors) and the scheme's state. */
@@ -211,6 +225,8 @@ extern const fpl_splitting fpl_scheme_yoshida4;
 extern const fpl_splitting fpl_scheme_aba864;
 extern const fpl_splitting fpl_scheme_aba864_harmonic;
 extern const fpl_splitting fpl_scheme_srkn14a6;
+extern const fpl_splitting fpl_scheme_dprkn8;
+extern const fpl_splitting fpl_scheme_dprkn12;
 
 /* Anharmonic part of the force (bond forces alpha R^2 + beta R^3, R from cn) for lattices whose
  * linear part is the homogeneous chain; keeps kappa_b = 2 alpha R + 3 beta R^2 in work->kappa

@@ -13,6 +13,8 @@ static const fpl_splitting *const schemes[] = {
     &fpl_scheme_aba864,
     &fpl_scheme_aba864_harmonic,
     &fpl_scheme_srkn14a6,
+    &fpl_scheme_dprkn8,
+    &fpl_scheme_dprkn12,
 };
 #define N_SCHEMES ((int)(sizeof schemes / sizeof schemes[0]))
 

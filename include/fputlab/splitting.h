@@ -11,7 +11,11 @@
  * (Blanes & Moan 2002 SRKN_14^a, order 6, 14 force evaluations) and "aba864-harmonic" (the
  * ABA(8,6,4) coefficients on the split harmonic chain + anharmonic force: drift = exact flow of
  * the harmonic chain, kick = anharmonic force only; order 4, rising to 6-8 as the nonlinearity
- * shrinks; models 1 and 3 only, FPL_ERR_ARG for model 2). */
+ * shrinks; models 1 and 3 only, FPL_ERR_ARG for model 2).
+ * The same registry holds two fixed-step explicit Runge-Kutta-Nystrom methods, "dprkn8" and
+ * "dprkn12" (Dormand, El-Mikkawy & Prince 1987, orders 8 and 12, 9 and 17 force evaluations per
+ * step): not symplectic, far fewer force evaluations than the compositions at tight accuracy;
+ * run on the same drift and kick, so for every model and with their own tangent map. */
 #ifndef FPUTLAB_SPLITTING_H
 #define FPUTLAB_SPLITTING_H
 

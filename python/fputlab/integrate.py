@@ -331,8 +331,9 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
         Final time (finite, >= `t0`).
     method : str, optional
         Integrator name (`fputlab.methods()`): a fixed-step splitting scheme ("yoshida4", the
-        default and the paper's; "leapfrog", "aba864", "srkn14a6", "aba864-harmonic") or an
-        adaptive method ("dop853", "dopri5", "verner65", "fehlberg87", "cvode-adams",
+        default and the paper's; "leapfrog", "aba864", "srkn14a6", "aba864-harmonic"), a
+        fixed-step explicit Runge-Kutta-Nystrom method ("dprkn8", "dprkn12": not symplectic,
+        for short precise runs) or an adaptive method ("dop853", "dopri5", "verner65", "fehlberg87", "cvode-adams",
         "cvode-bdf", "gsl-rk8pd").
     dt : float, optional
         Step of the fixed-step methods (default 0.01); an initial step for adaptive ones.

@@ -2,7 +2,8 @@
  * orders on a nonlinear chain (for "aba864-harmonic" also their rise as the nonlinearity shrinks),
  * energy conservation on the paper's problem, the tangent map, and the paper's FPUT recurrence.
  * Schemes: "leapfrog", "yoshida4", "aba864" (Blanes et al. 2013, ABA(8,6,4)), the same scheme on the
- * harmonic + anharmonic split ("aba864-harmonic") and "srkn14a6" (Blanes & Moan 2002, SRKN_14^a). */
+ * harmonic + anharmonic split ("aba864-harmonic") and "srkn14a6" (Blanes & Moan 2002, SRKN_14^a);
+ * and the explicit RKN methods "dprkn8", "dprkn12" (tables, orders, tangent map). */
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -140,6 +141,20 @@ static void test_order_range(const char *name, int model, double amplitude, doub
         printf("%s model %d amplitude %g dt %g/%g: errors %.2e %.2e, observed order %.3f\n", name,
                model, amplitude, dt0 / (1 << l), dt0 / (2 << l), err[l], err[l + 1], q[l]);
     }
+}
+
+/* Order 12 leaves one usable halving between the pre-asymptotic regime (dt >= 2 at this
+ * amplitude: 10.5-11.6) and the references' round-off (~1e-13 at dt = 0.25): check dt0 -> dt0/2
+ * only, in [lo, hi]. */
+static void test_order_first(const char *name, int model, double amplitude, double T, double dt0,
+                             double lo, double hi)
+{
+    double q[2], err[3];
+    observed_orders(name, model, amplitude, T, dt0, q, err);
+    CHECK(q[0] >= lo && q[0] <= hi, "%s model %d amplitude %g: observed order %.2f (errors %g, %g)",
+          name, model, amplitude, q[0], err[0], err[1]);
+    printf("%s model %d amplitude %g dt %g/%g: errors %.2e %.2e, observed order %.3f\n", name,
+           model, amplitude, dt0, dt0 / 2, err[0], err[1], q[0]);
 }
 
 static void test_order(const char *name, int model, double amplitude, double T, double dt0,
@@ -455,6 +470,70 @@ static void test_shared_lattice(void)
     fpl_lattice_free(&lat);
 }
 
+/* The explicit RKN tables (rkn.c; dprkn8, dprkn12): the simplifying assumption sum_j a_ij =
+ * c_i^2 / 2, the quadrature conditions sum_i bp_i c_i^k = 1/(k+1) (k < p) and sum_i b_i c_i^k =
+ * 1/((k+1)(k+2)) (k < p-1), in long double; then the method's local error order on the harmonic
+ * oscillator x'' = -x (one step, long double, against the exact rotation), which checks every
+ * linear order condition of the whole table. */
+static void test_rkn_tables(void)
+{
+    static const struct { const char *name; int order; double h0; } rkn[] = {
+        {"dprkn8", 8, 0.5}, {"dprkn12", 12, 2.0}};
+    for (size_t k = 0; k < sizeof rkn / sizeof rkn[0]; k++) {
+        const fpl_splitting *sc = scheme(rkn[k].name);
+        if (!sc) continue;
+        const fpl_rkn_table *T = sc->rkn;
+        CHECK(T && sc->run_setup && !sc->drift && !sc->kick, "%s: not an RKN entry", sc->name);
+        if (!T) continue;
+        const int s = T->stages, p = rkn[k].order;
+        CHECK(fpl_splitting_order(sc) == p && fpl_splitting_stages(sc) == s && T->c[0] == 0.0,
+              "%s: order %d, %d stages", sc->name, fpl_splitting_order(sc), s);
+        long double worst = 0.0L;
+        for (int i = 0; i < s; i++) {
+            long double row = 0.0L;
+            for (int j = 0; j < s; j++) {
+                CHECK(j < i || T->a[i * s + j] == 0.0, "%s: a[%d][%d] above the diagonal",
+                      sc->name, i, j);
+                row += T->a[i * s + j];
+            }
+            worst = fmaxl(worst, fabsl(row - 0.5L * T->c[i] * T->c[i]));
+        }
+        for (int q = 0; q < p; q++) {
+            long double sbp = 0.0L, sb = 0.0L;
+            for (int i = 0; i < s; i++) {
+                long double ck = powl(T->c[i], q);
+                sbp += T->bp[i] * ck;
+                sb += T->b[i] * ck;
+            }
+            worst = fmaxl(worst, fabsl(sbp - 1.0L / (q + 1)));
+            if (q < p - 1) worst = fmaxl(worst, fabsl(sb - 1.0L / ((q + 1) * (q + 2))));
+        }
+        CHECK(worst < 1e-14L, "%s: order conditions violated by %Lg", sc->name, worst);
+        long double err[3];
+        for (int l = 0; l < 3; l++) {
+            long double h = (long double)rkn[k].h0 / (1 << l), K[32], x = 1.0L, v = 0.0L;
+            long double sx = 0.0L, sv = 0.0L;
+            for (int i = 0; i < s; i++) {
+                long double X = x + T->c[i] * h * v;
+                for (int j = 0; j < i; j++) X += h * h * T->a[i * s + j] * K[j];
+                K[i] = -X;
+                sx += T->b[i] * K[i];
+                sv += T->bp[i] * K[i];
+            }
+            long double x1 = x + h * v + h * h * sx, v1 = v + h * sv;
+            err[l] = fabsl(x1 - cosl(h)) + fabsl(v1 + sinl(h));
+        }
+        for (int l = 0; l < 2; l++) {
+            if (err[l + 1] < 1e-16L) continue;   /* at the long double floor */
+            double q = (double)log2l(err[l] / err[l + 1]);
+            CHECK(fabs(q - (p + 1)) < 0.75, "%s: harmonic oscillator local error order %.2f "
+                  "(errors %Lg, %Lg)", sc->name, q, err[l], err[l + 1]);
+            printf("%s: conditions to %.1Le, harmonic oscillator local error order %.3f\n",
+                   sc->name, worst, q);
+        }
+    }
+}
+
 /* The homogeneous chain's own kernels (fused orbit + tangent kick, beta = 0 form, unit-mass drift,
  * the fused n-step stepper) against the generic ones: model 3 with v = 1 everywhere is the same
  * chain through kick_generic / drift_unit_mass and the one-step-at-a-time driver. The orbit is the
@@ -517,6 +596,8 @@ int main(void)
         test_order("yoshida4", model, 1.5, 5.0, 0.1, 4.0);
         test_order("aba864", model, 3.0, 10.0, 0.25, 4.0);
         test_order("srkn14a6", model, 3.0, 20.0, 0.5, 6.0);
+        test_order_range("dprkn8", model, 3.0, 20.0, 0.5, 7.6, 8.5);
+        test_order_first("dprkn12", model, 3.0, 20.0, 1.0, 11.5, 13.7);
     }
     test_aba864_small_amplitude();
     test_aba864_harmonic();
@@ -527,10 +608,13 @@ int main(void)
         test_tangent_map("yoshida4", model);
         test_tangent_map("aba864", model);
         test_tangent_map("srkn14a6", model);
+        test_tangent_map("dprkn8", model);
+        test_tangent_map("dprkn12", model);
         if (model != FPL_MODEL_HAMILTONIAN) test_tangent_map("aba864-harmonic", model);
     }
     test_recurrence();
     test_shared_lattice();
     test_homogeneous_kernels();
+    test_rkn_tables();
     return check_report("splitting");
 }

@@ -57,6 +57,60 @@ def test_against_scipy_dop853_nonlinear_model():
     np.testing.assert_allclose(ours, sol.y[:, -1], atol=1e-8)
 
 
+@pytest.mark.parametrize("method,dt", [("dprkn8", 0.1), ("dprkn12", 0.25)])
+def test_rkn_methods_against_scipy_dop853_with_deviation_vectors(method, dt):
+    # the explicit RKN methods (not symplectic, high order) on model 3 with two deviation
+    # vectors, against scipy's DOP853 on the orbit + variational equations written in numpy
+    from scipy.integrate import solve_ivp
+    N, a = 16, 0.25
+    lat = Lattice(N, a, "nonlinear", tau=10.0, seed=2)
+    V = np.concatenate([[1.0], lat.v, [1.0]])
+
+    def f(t, y):
+        x, p = y[:N], y[N:2 * N]
+        X = np.concatenate([[0.0], x, [0.0]])
+        r, R = np.diff(X), np.diff(V * X)
+        out = [p, np.diff(r + a * R ** 2)]
+        for m in (1, 2):
+            dx, dp = y[2 * N * m:2 * N * m + N], y[2 * N * m + N:2 * N * (m + 1)]
+            dX = np.concatenate([[0.0], dx, [0.0]])
+            out += [dp, np.diff(np.diff(dX) + 2 * a * R * np.diff(V * dX))]
+        return np.concatenate(out)
+
+    W = np.random.default_rng(3).standard_normal((2, 2 * N))
+    y0 = np.vstack([lat.mode_state(1, 2.0), W])
+    sol = solve_ivp(f, (0, 50), y0.reshape(-1), method="DOP853", rtol=1e-13, atol=1e-13)
+    ours = Integrator(lat, y0, method=method, dt=dt).advance(50.0)
+    np.testing.assert_allclose(ours.reshape(-1), sol.y[:, -1], atol=2e-9)
+
+
+def test_rkn_method_events_samples_and_restart():
+    # dprkn12 goes through the fixed-step back end like the compositions: off-grid samples one
+    # partial step from the grid, a stopping criterion located inside a step, bit-for-bit restart
+    lat = Lattice(16, 0.25)
+    y0 = lat.mode_state(1, 2.0)
+    a = lat.integrate(7.3, method="dprkn12", dt=0.25, times=[7.3], store_states=True).states[0]
+    b = lat.integrate(7.3, method="yoshida4", dt=0.001, times=[7.3], store_states=True).states[0]
+    np.testing.assert_allclose(a, b, atol=1e-10)
+    full = Integrator(lat, y0, method="dprkn12", dt=0.25)
+    ref = full.advance(40.1)
+    first = Integrator(lat, y0, method="dprkn12", dt=0.25)
+    first.advance(20.1)
+    second = Integrator(lat, y0, method="dprkn12", dt=0.25)
+    second.restore(first.steps, first.t, first.state)
+    np.testing.assert_array_equal(second.advance(40.1), ref)
+    # the quadratic coupling feeds mode 2 at once: E_2 > 1e-4 E fires early, inside a step;
+    # located by both methods at the same time
+    crit = [("mode_energy", 1e-4 * lat.energy(y0), 2)]
+    fired = []
+    for method, step in (("dprkn12", 0.25), ("yoshida4", 0.001)):
+        integ = Integrator(lat, y0, method=method, dt=step, criteria=crit)
+        integ.advance(50.0)
+        assert integ.event is not None and 0 < integ.event["time"] < 50.0
+        fired.append(integ.event["time"])
+    assert abs(fired[0] - fired[1]) < 1e-8, fired
+
+
 def test_samples_off_the_grid_are_exact():
     lat = Lattice(8, 0.25)
     a = lat.integrate(1.234567, dt=0.01, times=[1.234567], store_states=True).states[0]
@@ -85,7 +139,8 @@ def test_blowup_ends_cleanly_with_finite_samples():
     assert not run.completed and "non-finite" in run.message
 
 
-@pytest.mark.parametrize("method", ["cvode-bdf", "cvode-adams", "gsl-rk8pd", "dop853", "yoshida4"])
+@pytest.mark.parametrize("method", ["cvode-bdf", "cvode-adams", "gsl-rk8pd", "dop853", "yoshida4",
+                                    "dprkn12"])
 def test_blowup_keeps_the_finite_samples_for_every_back_end(method):
     """A blow-up ends the run with every finite sample before it, whichever back end failed
     (NaN/Inf for the splitting schemes, a step-size failure for CVODE/GSL)."""
