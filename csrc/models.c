@@ -167,31 +167,19 @@ __attribute__((noipa)) static void kick_homogeneous_short(const fpl_lattice *lat
  * nothing but the state is streamed and kappa is not re-read once per vector (out of cache that
  * pass cost ~1.6x the plain-C roofline, benchmarks/roofline.c). Same expressions in the same
  * order as the vector-by-vector form below: bit-identical results. */
-FPL_INLINE void kick_orbit_tangent1_homogeneous(int n, const double *restrict x,
-                                                double *restrict p, const double *restrict u,
-                                                double *restrict q, double a, double b, double h,
-                                                const int cubic)
+FPL_INLINE void kick_orbit_tangent_homogeneous(int n, const double *restrict x,
+                                               double *restrict p, const double *restrict u,
+                                               double *restrict q, const double *restrict w,
+                                               double *restrict r, double a, double b, double h,
+                                               const int cubic, const int two)
 {
+    /* `two` is a constant at every (inlined) call: the second vector's line is there or not */
     for (int i = 1; i < n - 1; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
         p[i] += h * (PHI_C(dr) - PHI_C(dl));
         const double kl = KAP_C(dl), kr = KAP_C(dr);
         q[i] += h * (kr * (u[i + 1] - u[i]) - kl * (u[i] - u[i - 1]));
-    }
-}
-
-FPL_INLINE void kick_orbit_tangent2_homogeneous(int n, const double *restrict x,
-                                                double *restrict p, const double *restrict u,
-                                                double *restrict q, const double *restrict w,
-                                                double *restrict r, double a, double b, double h,
-                                                const int cubic)
-{
-    for (int i = 1; i < n - 1; i++) {
-        const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
-        p[i] += h * (PHI_C(dr) - PHI_C(dl));
-        const double kl = KAP_C(dl), kr = KAP_C(dr);
-        q[i] += h * (kr * (u[i + 1] - u[i]) - kl * (u[i] - u[i - 1]));
-        r[i] += h * (kr * (w[i + 1] - w[i]) - kl * (w[i] - w[i - 1]));
+        if (two) r[i] += h * (kr * (w[i + 1] - w[i]) - kl * (w[i] - w[i - 1]));
     }
 }
 
@@ -227,10 +215,11 @@ FPL_INLINE void kick_homogeneous_body(const fpl_lattice_ctx *c, double *y, doubl
     if (n_dev == 0) {
         kick_orbit_homogeneous(n, x, p, a, b, h, NULL, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent1_homogeneous(n, x, p, y + stride, y + stride + n, a, b, h, cubic);
+        kick_orbit_tangent_homogeneous(n, x, p, y + stride, y + stride + n, NULL, NULL, a, b, h,
+                                       cubic, 0);
     } else if (n_dev == 2) {
-        kick_orbit_tangent2_homogeneous(n, x, p, y + stride, y + stride + n, y + 2 * stride,
-                                        y + 2 * stride + n, a, b, h, cubic);
+        kick_orbit_tangent_homogeneous(n, x, p, y + stride, y + stride + n, y + 2 * stride,
+                                       y + 2 * stride + n, a, b, h, cubic, 1);
     } else {
         /* more vectors (GALI_k, k > 2): kappa once into the scratch array, then one pass each */
         kick_orbit_homogeneous(n, x, p, a, b, h, kap, cubic);
