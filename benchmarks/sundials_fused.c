@@ -19,6 +19,12 @@
 #else
 #define ERK(name) ERKStep##name
 #endif
+/* 7.2 deprecated ERKStepGetNumRhsEvals for ARKodeGetNumRhsEvals(mem, partition, &n). */
+#if SUNDIALS_VERSION_MAJOR > 7 || (SUNDIALS_VERSION_MAJOR == 7 && SUNDIALS_VERSION_MINOR >= 2)
+#define ERK_NUM_RHS(mem, n) ARKodeGetNumRhsEvals((mem), 0, (n))
+#else
+#define ERK_NUM_RHS(mem, n) ERKStepGetNumRhsEvals((mem), (n))
+#endif
 
 static double now(void)
 {
@@ -59,7 +65,7 @@ static double erk(fpl_lattice *lat, int n, int fused, double T, double *err_out,
     ERK(Evolve)(mem, T, y, &t, ARK_NORMAL);
     double wall = now() - t0;
     long nfe = 0, nst = 0;
-    ERKStepGetNumRhsEvals(mem, &nfe);
+    ERK_NUM_RHS(mem, &nfe);
     ERK(GetNumSteps)(mem, &nst);
     *per_step = 1e9 * wall / ((double)nst * n);
     double err = 0.0;

@@ -257,7 +257,7 @@ static int ark_advance(fpl_integrator *h, double t_target, double *y_out)
         flag = FPL_ARK(ERKStep, Evolve)(d->mem, t_target, d->y, &tret, ARK_NORMAL);
     long nst = 0, nfe = 0;
     FPL_ARK(ERKStep, GetNumSteps)(d->mem, &nst);
-    ERKStepGetNumRhsEvals(d->mem, &nfe);
+    FPL_ERK_NUM_RHS(d->mem, &nfe);
     h->n_steps = d->base_steps + nst;
     h->n_force = d->base_rhs + nfe;
     return fpl_sun_classify(h, &ark_ops, flag, tret, t_target, y_out);

@@ -42,16 +42,17 @@ typedef struct sprk_method {
     const char *table;          /* ARKODE's table name (set by name: no table to own or free) */
 } sprk_method;
 
-/* SPRKStepSetUseCompensatedSums (7.1.1) clones its error accumulator from the state vector and
- * never zeroes it: the first steps then add whatever the allocator left there (measured: energy
- * errors 1e-3..1 instead of 1e-16, and right-hand-side failures under MALLOC_PERTURB_). The
- * solver's vectors are clones of ours, so a clone operation that zeroes fixes it.
+/* SPRKStepSetUseCompensatedSums (6.6 to 7.1.1) clones its error accumulator from the state vector
+ * and never zeroes it: the first steps then add whatever the allocator left there (measured:
+ * energy errors 1e-3..1 instead of 1e-16, and right-hand-side failures under MALLOC_PERTURB_;
+ * fixed in 7.2.0). The solver's vectors are clones of ours, so a clone operation that zeroes
+ * fixes it.
  *
  * The same clone operation finds the accumulator (the "carry" of the compensated sums): SUNDIALS
  * has no function to read or set it (6.6 to 7.5: step_mem->yerr is private, SPRKStepReset zeroes
  * it), yet a restart without it is not bit for bit. SPRKStepSetUseCompensatedSums allocates it by
- * cloning the solver's state vector (6.6.0 to 7.5.0 alike), so the one vector cloned during that
- * call is the carry; sprk_init checks that exactly one was. */
+ * cloning the solver's state vector (6.6.0 to 7.5.0 alike; from 7.4 the call is
+ * ARKodeSetUseCompensatedSums), so the one vector cloned during that call is the carry; sprk_init checks that exactly one was. */
 static _Thread_local N_Vector *clone_capture;
 static _Thread_local int clone_captured;
 
@@ -90,6 +91,8 @@ static void sprk_release(fpl_integrator *h)
     fpl_sun_data_free(h);
 }
 
+static int sprk_start(fpl_integrator *h);
+
 static int sprk_init(fpl_integrator *h)
 {
     const sprk_method *m = h->method->data;
@@ -114,7 +117,7 @@ static int sprk_init(fpl_integrator *h)
             return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (compensated sums)");
         clone_capture = &c->yerr;
         clone_captured = 0;
-        flag = SPRKStepSetUseCompensatedSums(d->mem, SUNTRUE);
+        flag = FPL_SPRK_SET_COMPENSATED_SUMS(d->mem, SUNTRUE);
         clone_capture = NULL;
         if (flag != ARK_SUCCESS)
             return fpl_sun_setup_failed(h, "SPRKStepSetUseCompensatedSums", flag);
@@ -135,7 +138,7 @@ static int sprk_init(fpl_integrator *h)
             return fpl_sun_setup_failed(h, "SPRKStepSetRootDirection", flag);
         FPL_ARK(SPRKStep, SetNoInactiveRootWarn)(d->mem);
     }
-    return FPL_OK;
+    return h->opt.compensated_sums ? sprk_start(h) : FPL_OK;
 }
 
 /* What a solver reset does with the compensated sums' carry (SPRKStepReset zeroes it). */
@@ -162,6 +165,24 @@ static int sprk_restart_carry(fpl_integrator *h, enum carry_mode mode)
         memcpy(N_VGetArrayPointer(c->yerr), c->saved, sizeof(double) * keep);
     }
     return FPL_OK;
+}
+
+/* SUNDIALS >= 7.2 zeroes the compensated sums' carry when the solver starts (sprkStep_Init on
+ * ARKODE's first initialisation, which is also what a reset before the first step becomes), so a
+ * carry set before the first step (fpl_integrator_restore, a resumed checkpoint) would be lost.
+ * A compensated solver therefore takes one step when it is created and is put back at the start
+ * (zero carry): later resets keep the carry fputlab sets. The step leaves no trace in the state,
+ * the carry or fputlab's counters (the force count is taken as differences). */
+static int sprk_start(fpl_integrator *h)
+{
+    fpl_sun_data *d = h->data;
+    double tret = h->t;
+    (void)FPL_ARK(SPRKStep, Evolve)(d->mem, h->t + h->opt.dt, d->y, &tret, ARK_ONE_STEP);
+    d->err.msg[0] = '\0';      /* whatever the outcome: the run starts at (h->t, h->y) */
+    int st = sprk_restart_carry(h, CARRY_ZERO);
+    if (st == FPL_OK) memset(N_VGetArrayPointer(carry_of(h)->yerr), 0,
+                             sizeof(double) * (size_t)h->dim);
+    return st;
 }
 
 /* The back end's reset: after the deviation vectors were transformed in place (their carry no
@@ -201,8 +222,8 @@ static const fpl_sun_ops sprk_ops = {
 static int steps(fpl_integrator *h, long n, double t_target, long *done, double *tret)
 {
     fpl_sun_data *d = h->data;
-    long nf1 = 0, nf2 = 0, nf1_after = 0;
-    SPRKStepGetNumRhsEvals(d->mem, &nf1, &nf2);
+    long nf1 = 0, nf1_after = 0;
+    FPL_SPRK_NUM_F1(d->mem, &nf1);
     d->err.msg[0] = '\0';
     *tret = h->t;
     *done = 0;
@@ -212,7 +233,7 @@ static int steps(fpl_integrator *h, long n, double t_target, long *done, double 
         if (flag != ARK_SUCCESS) break;
         ++*done;
     }
-    SPRKStepGetNumRhsEvals(d->mem, &nf1_after, &nf2);
+    FPL_SPRK_NUM_F1(d->mem, &nf1_after);
     h->n_force += nf1_after >= nf1 ? nf1_after - nf1 : nf1_after;
     return flag;
 }

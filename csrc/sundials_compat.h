@@ -15,6 +15,10 @@
  *                 picks ARKodeName on >= 7.1 and the stepper's own name (ERKStep or SPRKStep,
  *                 FPL_ARK_STEPPER) before. Stepper-specific calls (ERKStepCreate, ERKStepSetTable,
  *                 ERKStepReInit, SPRKStepCreate, ...) are the same in both.
+ *                 7.2 deprecated ERKStepGetNumRhsEvals and SPRKStepGetNumRhsEvals for
+ *                 ARKodeGetNumRhsEvals(mem, partition, &n) (FPL_ERK_NUM_RHS, FPL_SPRK_NUM_F1),
+ *                 7.4 SPRKStepSetUseCompensatedSums for ARKodeSetUseCompensatedSums
+ *                 (FPL_SPRK_SET_COMPENSATED_SUMS).
  *   SPRKStep      exists from 6.6 (FPL_HAVE_SPRKSTEP).
  *   libraries     7.x: sundials_core (meson.build); 6.x: sundials_generic (optional).
  *   types         sunrealtype, sunbooleantype, sunindextype exist in both (realtype was removed
@@ -39,6 +43,23 @@
 #endif
 /* FPL_ARK(ERKStep, SStolerances)(mem, ...): ARKodeSStolerances on >= 7.1, else ERKStepSStolerances. */
 #define FPL_ARK(stepper, name) FPL_ARK_CAT_(stepper, name)
+
+/* Right-hand-side evaluations so far: ERKStep's f (FPL_ERK_NUM_RHS) and SPRKStep's f1, the force
+ * (FPL_SPRK_NUM_F1; partition 0 of ARKodeGetNumRhsEvals). */
+#if FPL_SUN_VERSION >= 702
+#define FPL_ERK_NUM_RHS(mem, n) ARKodeGetNumRhsEvals((mem), 0, (n))
+#define FPL_SPRK_NUM_F1(mem, n) ARKodeGetNumRhsEvals((mem), 0, (n))
+#else
+#define FPL_ERK_NUM_RHS(mem, n) ERKStepGetNumRhsEvals((mem), (n))
+#define FPL_SPRK_NUM_F1(mem, n) SPRKStepGetNumRhsEvals((mem), (n), &(long int){0})
+#endif
+
+/* SPRKStep's compensated summation on or off. */
+#if FPL_SUN_VERSION >= 704
+#define FPL_SPRK_SET_COMPENSATED_SUMS ARKodeSetUseCompensatedSums
+#else
+#define FPL_SPRK_SET_COMPENSATED_SUMS SPRKStepSetUseCompensatedSums
+#endif
 
 /* Messages of the last SUNDIALS failure: the buffer the error handler writes into. */
 typedef struct fpl_sun_msgbuf {
