@@ -10,8 +10,9 @@ error of the final state (orbit and both deviation vectors).
 
 Every method is swept over its accuracy knob (scipy and fputlab's adaptive methods: rtol = atol
 = 1e-3 ... 1e-12; fixed-step methods: a list of step sizes), each point timed in *process CPU
-time* (minimum of --repeats repeats, each looped to >= --min-time s, so other load on a shared
-machine counts little). The cost of a method at a target error e* is interpolated in log-log
+time*, each run looped to >= --min-time s: the minimum over --repeats rounds, each round timing
+every point of the size once in turn (the machine is shared and has slow phases seconds long:
+interleaving spreads them over all methods alike instead of all repeats of one point). The cost of a method at a target error e* is interpolated in log-log
 between the two neighbouring points of its Pareto front that bracket e* (never extrapolated: a
 method whose sweep does not reach e* has no cost there; one whose loosest point is already more
 accurate than e* costs what that point costs). The best of each side is compared.
@@ -59,19 +60,22 @@ SCIPY_METHODS = ["DOP853", "RK45", "LSODA"]
 TARGET_ERRORS = [1e-6, 1e-9]
 
 
-def cpu_timed(fn, repeats, min_time):
-    """Minimum over repeats of the process CPU time of fn() (looped to >= min_time)."""
+def loop_time(fn, once, min_time):
+    """Process CPU time of one fn() call, looped to >= min_time (once: a first estimate)."""
+    inner = max(1, math.ceil(min_time / max(once, 1e-6)))
     t0 = cpu()
-    result = fn()
-    first = cpu() - t0
-    inner = 1 if first >= min_time else max(1, math.ceil(min_time / max(first, 1e-6)))
-    best = first
-    for _ in range(repeats - 1):
-        t0 = cpu()
-        for _ in range(inner):
-            fn()
-        best = min(best, (cpu() - t0) / inner)
-    return best, result
+    for _ in range(inner):
+        fn()
+    return (cpu() - t0) / inner
+
+
+def time_in_rounds(timers, cfg):
+    """Every point's cost = the minimum over --repeats rounds, each round timing every point of
+    this N (both sides) once in turn: a slow phase of a shared machine (seconds long here) then
+    hits some rounds of every method alike instead of all repeats of one point."""
+    for _ in range(cfg.repeats):
+        for pt, fn in timers:
+            pt["cpu"] = min(pt["cpu"], loop_time(fn, pt["cpu"], cfg.min_time))
 
 
 def scipy_run(method, N, st, T, tol):
@@ -89,9 +93,10 @@ def fpl_run(lat, st, T, method, **kw):
     return integ.advance(T)
 
 
-def sweep(label, knobs, make, ref, floor_err, cfg, log):
-    """Points (knob, error, cpu seconds) for each knob, loose to tight; stops once the error is
-    far below every target or a run would exceed the CPU cap."""
+def sweep(label, knobs, make, ref, floor_err, cfg, log, timers):
+    """Points (knob, error, cpu seconds of a first run) for each knob, loose to tight; stops once
+    the error is far below every target or a run would exceed the CPU cap. Each point's run is
+    appended to timers for time_in_rounds."""
     pts = []
     for knob in knobs:
         fn = make(knob)
@@ -110,8 +115,8 @@ def sweep(label, knobs, make, ref, floor_err, cfg, log):
             log(f"    {label} {knob:g}: one run {once:.1f} s > cap {cfg.cap:g} s, stop")
             pts.append({"knob": knob, "error": err, "cpu": once, "single": True})
             break
-        c, _ = cpu_timed(fn, cfg.repeats, cfg.min_time)
-        pts.append({"knob": knob, "error": err, "cpu": min(c, once)})
+        pts.append({"knob": knob, "error": err, "cpu": once})
+        timers.append((pts[-1], fn))
         if err < floor_err:
             break
     return pts
@@ -144,7 +149,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[8, 16, 32, 64, 4096])
     ap.add_argument("--repeats", type=int, default=9,
-                    help="repeats per point, the minimum counts (the machine may be shared)")
+                    help="rounds timing every point once each; a point's minimum counts")
     ap.add_argument("--min-time", type=float, default=0.03)
     ap.add_argument("--cap", type=float, default=15.0, help="CPU seconds a single run may take")
     ap.add_argument("--json", help="write every point here")
@@ -167,18 +172,21 @@ def main(argv=None):
         log(f"N = {N}: reference {rinfo['method']} {rinfo['setting']}, check {rfloor:.1e}")
         res = {"reference": rinfo, "fputlab": {}, "scipy": {}}
         wanted = set(cfg.fputlab_methods or methods)
+        timers = []
         for m, ns in FIXED_STEPS.items():
             if m in methods and m in wanted:
                 res["fputlab"][m] = sweep(m, ns, lambda n, m=m: (
-                    lambda: fpl_run(lat, st, T_END, m, dt=1.0 / n)), ref, floor, cfg, log)
+                    lambda: fpl_run(lat, st, T_END, m, dt=1.0 / n)), ref, floor, cfg, log,
+                    timers)
         for m in FPL_ADAPTIVE:
             if m in methods and m in wanted:
                 res["fputlab"][m] = sweep(m, TOLS, lambda tol, m=m: (
                     lambda: fpl_run(lat, st, T_END, m, rtol=tol, atol=tol)), ref, floor, cfg,
-                    log)
+                    log, timers)
         for m in cfg.scipy_methods:
             res["scipy"][m] = sweep("scipy " + m, TOLS, lambda tol, m=m: (
-                lambda: scipy_run(m, N, st, T_END, tol)), ref, floor, cfg, log)
+                lambda: scipy_run(m, N, st, T_END, tol)), ref, floor, cfg, log, timers)
+        time_in_rounds(timers, cfg)
         res["at"] = {}
         for e in TARGET_ERRORS:
             row = {}

@@ -52,7 +52,8 @@ typedef struct sprk_method {
  * has no function to read or set it (6.6 to 7.5: step_mem->yerr is private, SPRKStepReset zeroes
  * it), yet a restart without it is not bit for bit. SPRKStepSetUseCompensatedSums allocates it by
  * cloning the solver's state vector (6.6.0 to 7.5.0 alike; from 7.4 the call is
- * ARKodeSetUseCompensatedSums), so the one vector cloned during that call is the carry; sprk_init checks that exactly one was. */
+ * ARKodeSetUseCompensatedSums), so the one vector cloned during that call is the carry; sprk_init
+ * checks that exactly one was. */
 static _Thread_local N_Vector *clone_capture;
 static _Thread_local int clone_captured;
 
@@ -180,8 +181,8 @@ static int sprk_start(fpl_integrator *h)
     (void)FPL_ARK(SPRKStep, Evolve)(d->mem, h->t + h->opt.dt, d->y, &tret, ARK_ONE_STEP);
     d->err.msg[0] = '\0';      /* whatever the outcome: the run starts at (h->t, h->y) */
     int st = sprk_restart_carry(h, CARRY_ZERO);
-    if (st == FPL_OK) memset(N_VGetArrayPointer(carry_of(h)->yerr), 0,
-                             sizeof(double) * (size_t)h->dim);
+    if (st == FPL_OK)
+        memset(N_VGetArrayPointer(carry_of(h)->yerr), 0, sizeof(double) * (size_t)h->dim);
     return st;
 }
 
