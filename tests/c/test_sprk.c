@@ -386,14 +386,10 @@ static void test_callbacks(void)
  * stdout/stderr and its message on the handle. */
 static void test_silent(void)
 {
-    fflush(stdout);
-    fflush(stderr);
-    FILE *cap = tmpfile();
-    CHECK(cap != NULL, "tmpfile");
-    if (!cap) return;
-    int out = dup(1), err = dup(2);
-    dup2(fileno(cap), 1);
-    dup2(fileno(cap), 2);
+    check_capture cap;
+    int opened = check_capture_begin(&cap) == 0;
+    CHECK(opened, "tmpfile");
+    if (!opened) return;
     fpl_lattice *lat = NULL;
     double y0[LEN], y[LEN];
     int failed = 0, named = 0;
@@ -412,18 +408,8 @@ static void test_silent(void)
         fpl_integrator_free(&h);
     }
     fpl_lattice_free(&lat);
-    fflush(stdout);
-    fflush(stderr);
-    dup2(out, 1);
-    dup2(err, 2);
-    close(out);
-    close(err);
-    fseek(cap, 0, SEEK_END);
-    long printed = ftell(cap);
-    char head[200] = "";
-    rewind(cap);
-    if (printed > 0 && !fgets(head, sizeof head, cap)) head[0] = '\0';
-    fclose(cap);
+    char head[200];
+    long printed = check_capture_end(&cap, head, sizeof head);
     CHECK(failed == 2 && named == 2, "both runs failed with SPRKStep's flag (%d, %d)", failed,
           named);
     CHECK(printed == 0, "the library printed %ld bytes: %s", printed, head);
