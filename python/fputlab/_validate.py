@@ -27,6 +27,14 @@ def _finite_real(value, name: str) -> float:
     return x
 
 
+def _positive_real(value, name: str) -> float:
+    """A real-number parameter that must be finite and > 0 (times, steps, intervals)."""
+    x = _real(value, name)
+    if not (math.isfinite(x) and x > 0):
+        raise ValueError(f"{name} must be finite and > 0 (got {x:g})")
+    return x
+
+
 def _int(value, name: str, bounds: tuple = C_INT) -> int:
     """An integer parameter, checked against the range of the C type it goes to (int by
     default): out of range is a ValueError naming it, not cffi's anonymous OverflowError."""

@@ -2,7 +2,6 @@
 blow-up probability over disorder realisations (paper Sec. 3, Fig. 3 and Sec. 4)."""
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -15,7 +14,7 @@ from ._arrays import as_float_array
 from ._engine import check_ensemble, run_calls
 from ._errors import Interrupted
 from ._pacing import Pacer, first_span
-from ._validate import _real
+from ._validate import _positive_real, _real
 # CRITERIA stays importable from here (fputlab.blowup.CRITERIA)
 from .integrate import CRITERIA, Integrator, check_steps, method_info  # noqa: F401
 from .lattice import Lattice
@@ -80,9 +79,7 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
         The state became NaN/Inf without a criterion firing: an integration failure, not a
         located blow-up.
     """
-    t_max = _real(t_max, "t_max")
-    if not (math.isfinite(t_max) and t_max > 0):
-        raise ValueError(f"t_max must be finite and > 0 (got {t_max:g})")
+    t_max = _positive_real(t_max, "t_max")
     crit = default_criteria(lattice) if criteria is None else criteria
     y = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * lattice.N,))
     if dt is None and not method_info(method)["adaptive"]:

@@ -13,7 +13,7 @@ from . import _lowlevel as ll
 from ._arrays import as_float_array, check_memory
 from ._errors import FputlabError, IntegrationError, Interrupted
 from ._pacing import Pacer, first_span
-from ._validate import C_LONG, _int, _real
+from ._validate import C_LONG, _int, _positive_real, _real
 from .lattice import Lattice
 
 
@@ -400,9 +400,7 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
     if not (math.isfinite(t_end) and t_end >= t0):
         raise ValueError(f"t_end must be finite and >= t0 = {t0:g} (got {t_end:g})")
     if dt is not None:
-        dt = _real(dt, "dt")
-        if not (math.isfinite(dt) and dt > 0):
-            raise ValueError(f"dt must be finite and > 0 (got {dt:g})")
+        dt = _positive_real(dt, "dt")
     elif not method_info(method)["adaptive"]:
         dt = ll.DT
     N = lattice.N

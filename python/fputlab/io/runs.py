@@ -16,7 +16,7 @@ import numpy as np
 from .. import _lowlevel as ll
 from .._arrays import as_float_array
 from .._errors import FputlabError, last_error
-from .._validate import C_LONG, C_U64, _int, _real
+from .._validate import C_LONG, C_U64, _int, _positive_real, _real
 from ..integrate import Integrator, _compensated_sums, check_steps, method_info
 from ..lattice import Lattice
 from .files import (ResultsFile, _check_output_paths, _RunInfo, _verify_resume,
@@ -344,9 +344,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     """
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
-    t_end = _real(t_end, "t_end")
-    if not (math.isfinite(t_end) and t_end > 0):
-        raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
+    t_end = _positive_real(t_end, "t_end")
     adaptive = method_info(method)["adaptive"]
     _compensated_sums(compensated_sums, method)
     if dt is None and not adaptive:
@@ -486,14 +484,10 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
     """
     if not isinstance(lattice, Lattice):
         raise TypeError(f"lattice must be a fputlab.Lattice, got {type(lattice).__name__}")
-    t_end = _real(t_end, "t_end")
-    if not (math.isfinite(t_end) and t_end > 0):
-        raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
+    t_end = _positive_real(t_end, "t_end")
     k_steps, k_seconds = _check_every(checkpoint_every_steps, checkpoint_every_seconds)
     if segment is not None:
-        segment = _real(segment, "segment")
-        if not (math.isfinite(segment) and segment > 0):
-            raise ValueError(f"segment must be finite and > 0 (got {segment:g})")
+        segment = _positive_real(segment, "segment")
     resuming = _check_output_paths(out, checkpoint, resume, overwrite)
     adaptive = method_info(method)["adaptive"]
     if dt is None and not adaptive:

@@ -12,7 +12,7 @@ from .. import _lowlevel as ll
 from .._display import ResultMixin
 from .._arrays import as_float_array
 from .._errors import IntegrationError, check
-from .._validate import _finite_real, _real
+from .._validate import _finite_real, _positive_real, _real
 from ..integrate import _sample_times
 from ..lattice import Lattice
 from .coefficients import TwoModeCoefficients
@@ -72,9 +72,7 @@ def _run_args(t_end, dt, t0, sample_every, times, on_failure):
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure must be 'raise' or 'return', got {on_failure!r}")
     t0 = _finite_real(t0, "t0")
-    dt = _real(dt, "dt")
-    if not (math.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt must be finite and > 0 (got {dt:g})")
+    dt = _positive_real(dt, "dt")
     t_end = _real(t_end, "t_end")
     if not math.isfinite(t_end):
         raise ValueError(f"t_end must be finite (got {t_end})")
