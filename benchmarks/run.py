@@ -468,8 +468,9 @@ def _inner_loops(clean: str, body: tuple, names):
 
 def check_vectorisation(bdir, log):
     """Compile csrc/models.c, csrc/splitting.c, csrc/harmonic_split.c and csrc/rkn.c with the
-    build's own flags plus -fopt-info-vec-optimized and list, for every innermost loop of the hot functions (those
-    marked FPL_HOT and the file-local functions they call), whether and how wide GCC vectorised it."""
+    build's own flags plus -fopt-info-vec-optimized and list, for every innermost loop of the
+    hot functions (those marked FPL_HOT and the file-local functions they call), whether and how
+    wide GCC vectorised it."""
     files = ["csrc/models.c", "csrc/splitting.c", "csrc/harmonic_split.c", "csrc/rkn.c"]
     cmds = {}
     cc_json = bdir / "compile_commands.json" if bdir else None
