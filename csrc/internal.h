@@ -37,7 +37,15 @@ typedef struct fpl_work {
     void *fft_wavetable;  /* NULL unless created with_modes */
     void *fft_workspace;
     double *ek;     /* N: mode energies for the event criteria */
+    /* FPL_KAPPA_STAGES x (N+1): the bond curvatures of every kick of one step, for the fused
+     * steppers with many deviation vectors (each vector then runs the whole step while it stays
+     * in cache); NULL for N > FPL_KAPPA_STAGES_MAX_N, where a vector does not stay in cache. */
+    double *kappa_stages;
 } fpl_work;
+/* The most kicks a step of a kinetic splitting scheme has (srkn14a6), and the largest N with a
+ * kappa_stages array (14 x 8193 doubles, 0.9 MB). */
+#define FPL_KAPPA_STAGES 14
+#define FPL_KAPPA_STAGES_MAX_N 8192
 
 /* Allocate a workspace for lattices of N = n (errors via fpl_error); with_modes: also the FFT
  * tables of the mode transforms (fpl_modes_energies_work, mode-energy criteria). */

@@ -17,11 +17,14 @@ int fpl_work_create(int n, int with_modes, fpl_work **out)
     w->dphi = xcalloc(nn + 1);
     w->fft = xcalloc(m);
     w->ek = xcalloc(nn);
+    if (n <= FPL_KAPPA_STAGES_MAX_N)   /* scratch, written before it is read: not zeroed */
+        w->kappa_stages = malloc(sizeof(double) * FPL_KAPPA_STAGES * (nn + 1));
     if (with_modes) {
         w->fft_wavetable = gsl_fft_real_wavetable_alloc(m);
         w->fft_workspace = gsl_fft_real_workspace_alloc(m);
     }
     if (!w->phi || !w->kappa || !w->dphi || !w->fft || !w->ek ||
+        (n <= FPL_KAPPA_STAGES_MAX_N && !w->kappa_stages) ||
         (with_modes && (!w->fft_wavetable || !w->fft_workspace))) {
         fpl_work_free(&w);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating a workspace for N = %d", n);
@@ -39,6 +42,7 @@ void fpl_work_free(fpl_work **work)
     free(w->dphi);
     free(w->fft);
     free(w->ek);
+    free(w->kappa_stages);
     if (w->fft_wavetable) gsl_fft_real_wavetable_free(w->fft_wavetable);
     if (w->fft_workspace) gsl_fft_real_workspace_free(w->fft_workspace);
     free(w);
