@@ -48,10 +48,15 @@ cleanup() {
   for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do umount "${mounted[i]}" || umount -l "${mounted[i]}"; done
 }
 trap cleanup EXIT
+trap 'exit 130' INT TERM   # so that the EXIT trap unmounts
 mount_in_root() {  # mount_in_root TARGET MOUNT-ARGS...
   mount "${@:2}" "$CHROOT$1"
   mounted+=("$CHROOT$1")
 }
+# left mounted by a run that was killed (SIGKILL skips the trap)
+for m in /dev/shm /dev /proc; do
+  if mountpoint -q "$CHROOT$m"; then umount "$CHROOT$m" || umount -l "$CHROOT$m"; fi
+done
 mount_in_root /proc -t proc proc
 mount_in_root /dev --bind /dev
 mount_in_root /dev/shm -t tmpfs -o mode=1777 shm   # multiprocessing's semaphores
