@@ -6,22 +6,29 @@
 #   meson setup BUILDDIR -Dsundials_dir=PREFIX/usr
 #
 # SOURCE is a SUNDIALS git repository (bare or not; tag vVERSION is used), an unpacked source tree,
-# or a source tarball (.tar.gz); without it the release tarball is downloaded from GitHub
+# or a source tarball (.tar.gz, .tar.xz); without it the release tarball is downloaded from GitHub
 # (https://github.com/LLNL/sundials/releases). Only what fputlab links is built: ARKODE and CVODE
 # with the serial vector, dense/band matrices and linear solvers and the Newton/fixed-point
 # nonlinear solvers, shared libraries only, Release, no MPI, Fortran, examples or tests. The
 # libraries go to PREFIX/usr/lib, the headers to PREFIX/usr/include (the layout -Dsundials_dir and
 # tools/sundials7-prefix.sh expect; with PREFIX build-sun7/prefix, `./dev test-sun7` uses it).
 #
-# Needs cmake, make and a C compiler. JOBS (default 1) sets the parallel build jobs. Idempotent:
-# a PREFIX already holding SUNDIALS VERSION is kept. Not used by CI.
+# Needs cmake, make and a C compiler. JOBS (default 1) sets the parallel build jobs; STATIC=1 builds
+# static, position-independent libraries instead of shared ones (for linking into the wheel's
+# extension, tools/build-wheel.sh). Idempotent: a PREFIX already holding SUNDIALS VERSION is kept.
+# Not used by CI.
 set -euo pipefail
 log() { printf '[sundials-source-prefix] %s\n' "$*" >&2; }
-[[ $# -ge 2 ]] || { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+[[ $# -ge 2 ]] || { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 VERSION=$1
 PREFIX=$2
 SOURCE=${3:-}
 JOBS=${JOBS:-1}
+if [[ ${STATIC:-0} == 1 ]]; then
+  library_kind=(-DBUILD_SHARED_LIBS=OFF -DBUILD_STATIC_LIBS=ON -DCMAKE_POSITION_INDEPENDENT_CODE=ON)
+else
+  library_kind=(-DBUILD_SHARED_LIBS=ON -DBUILD_STATIC_LIBS=OFF)
+fi
 [[ $VERSION =~ ^[0-9]+\.[0-9]+\.[0-9]+$ ]] || { log "VERSION must be X.Y.Z (got '$VERSION')"; exit 2; }
 command -v cmake >/dev/null || { log "needs cmake"; exit 1; }
 mkdir -p "$PREFIX"
@@ -46,7 +53,7 @@ if [[ -z $SOURCE ]]; then
   curl -fsSL "$url" -o "$tmp/sundials.tar.gz"
   tar -xzf "$tmp/sundials.tar.gz" -C "$src" --strip-components=1
 elif [[ -f $SOURCE ]]; then
-  tar -xzf "$SOURCE" -C "$src" --strip-components=1
+  tar -xaf "$SOURCE" -C "$src" --strip-components=1
 elif git --git-dir="$SOURCE" rev-parse -q --verify "v$VERSION^{commit}" >/dev/null 2>&1 ||
      git -C "$SOURCE" rev-parse -q --verify "v$VERSION^{commit}" >/dev/null 2>&1; then
   gitdir=$(git -C "$SOURCE" rev-parse --absolute-git-dir 2>/dev/null || echo "$SOURCE")
@@ -67,7 +74,7 @@ found=$(for part in MAJOR MINOR PATCH; do
 log "configuring SUNDIALS $VERSION for $PREFIX/usr"
 cmake -S "$src" -B "$tmp/build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_INSTALL_PREFIX="$PREFIX/usr" -DCMAKE_INSTALL_LIBDIR=lib \
-  -DBUILD_SHARED_LIBS=ON -DBUILD_STATIC_LIBS=OFF \
+  "${library_kind[@]}" \
   -DBUILD_ARKODE=ON -DBUILD_CVODE=ON -DBUILD_CVODES=OFF -DBUILD_IDA=OFF -DBUILD_IDAS=OFF \
   -DBUILD_KINSOL=OFF -DBUILD_FORTRAN_MODULE_INTERFACE=OFF -DENABLE_MPI=OFF -DENABLE_OPENMP=OFF \
   -DENABLE_PTHREAD=OFF -DEXAMPLES_ENABLE_C=OFF -DEXAMPLES_ENABLE_CXX=OFF -DEXAMPLES_INSTALL=OFF \

@@ -28,22 +28,7 @@ fi
 command -v apt-get >/dev/null && command -v dpkg >/dev/null ||
   { log "needs apt-get and dpkg (a Debian system)"; exit 1; }
 
-# The system's configured Debian mirror: deb822 (debian.sources) or one-line sources.list.
-mirror=""
-for f in /etc/apt/sources.list.d/debian.sources /etc/apt/sources.list.d/*.sources; do
-  [[ -r $f ]] || continue
-  mirror=$(awk '/^URIs:/ { for (i = 2; i <= NF; i++) if ($i !~ /security/) { print $i; exit } }' "$f")
-  [[ -n $mirror ]] && break
-done
-if [[ -z $mirror ]]; then
-  for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
-    [[ -r $f ]] || continue
-    mirror=$(awk '$1 == "deb" { for (i = 2; i <= NF; i++) if ($i ~ /^[a-z]+:\/\//) {
-                 if ($i !~ /security/) { print $i; exit } ; break } }' "$f")
-    [[ -n $mirror ]] && break
-  done
-fi
-[[ -n $mirror ]] || { log "no Debian mirror found in /etc/apt/sources.list{,.d}"; exit 1; }
+mirror=$("$(dirname "$0")/debian-mirror.sh")
 keyring=/usr/share/keyrings/debian-archive-keyring.gpg
 log "mirror $mirror, suite $SUITE"
 

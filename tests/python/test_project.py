@@ -1,6 +1,7 @@
 """Project metadata: licence, citation, changelog and version agree with each other, and the
 user-facing documentation stands alone (no links into a directory users do not have)."""
 import importlib.metadata
+import os
 import re
 from pathlib import Path
 
@@ -62,9 +63,15 @@ def user_docs():
     docs += sorted(p for p in (ROOT / "docs").rglob("*")
                    if p.is_file() and p.suffix in {".md", ".rst", ".txt", ".py", ".cff"}
                    and not skip & set(p.parts))
-    docs += sorted(p for p in ROOT.rglob("*.md")
-                   if p not in docs and not skip & set(p.relative_to(ROOT).parts)
-                   and not p.relative_to(ROOT).parts[0].startswith("build"))
+    # pruned while walking, not filtered after: the build trees can be large (build-wheel/ holds
+    # a whole Debian root, with /proc mounted in it while ./dev test-wheel runs)
+    found = []
+    for dirpath, dirnames, filenames in os.walk(ROOT):
+        top = Path(dirpath) == ROOT
+        dirnames[:] = [d for d in dirnames
+                       if d not in skip and not (top and d.startswith("build"))]
+        found += [Path(dirpath) / f for f in filenames if f.endswith(".md")]
+    docs += sorted(p for p in found if p not in docs)
     return docs
 
 
