@@ -72,6 +72,7 @@ typedef struct fpl_model_ops {
 /* Immutable after fpl_lattice_create. */
 struct fpl_lattice {
     int n;
+    int boundary;   /* FPL_BOUNDARY_FIXED or FPL_BOUNDARY_PERIODIC */
     double alpha, beta;
     const fpl_model_ops *ops;
     double *v;      /* N */

@@ -31,6 +31,12 @@ static void *xcalloc(size_t n) { return calloc(n ? n : 1, sizeof(double)); }
 int fpl_lattice_create(int n, double alpha, double beta, int model, const double *v,
                        fpl_lattice **out)
 {
+    return fpl_lattice_create_ex(n, alpha, beta, model, v, FPL_BOUNDARY_FIXED, out);
+}
+
+int fpl_lattice_create_ex(int n, double alpha, double beta, int model, const double *v,
+                          int boundary, fpl_lattice **out)
+{
     if (!out)
         return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
     *out = NULL;
@@ -40,6 +46,14 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
         return fpl_error(NULL, FPL_ERR_ARG, "alpha must be finite (got %g)", alpha);
     if (!isfinite(beta))
         return fpl_error(NULL, FPL_ERR_ARG, "beta must be finite (got %g)", beta);
+    if (boundary != FPL_BOUNDARY_FIXED && boundary != FPL_BOUNDARY_PERIODIC)
+        return fpl_error(NULL, FPL_ERR_ARG,
+                         "boundary must be %d (fixed) or %d (periodic) (got %d)",
+                         FPL_BOUNDARY_FIXED, FPL_BOUNDARY_PERIODIC, boundary);
+    if (boundary == FPL_BOUNDARY_PERIODIC)
+        return fpl_error(NULL, FPL_ERR_ARG, "boundary: periodic chains are not implemented yet");
+    if (model == FPL_MODEL_TODA)
+        return fpl_error(NULL, FPL_ERR_ARG, "model: the Toda lattice is not implemented yet");
     const fpl_model_ops *ops = fpl_model_ops_for(model);
     if (!ops)
         return fpl_model_unknown(model);
@@ -57,6 +71,7 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
     if (!lat)
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating the lattice");
     lat->n = n;
+    lat->boundary = boundary;
     lat->alpha = alpha;
     lat->beta = beta;
     lat->ops = ops;
@@ -102,6 +117,7 @@ int fpl_lattice_size(const fpl_lattice *lattice) { return lattice ? lattice->n :
 double fpl_lattice_alpha(const fpl_lattice *lattice) { return lattice ? lattice->alpha : NAN; }
 double fpl_lattice_beta(const fpl_lattice *lattice) { return lattice ? lattice->beta : NAN; }
 int fpl_lattice_model(const fpl_lattice *lattice) { return lattice ? lattice->ops->model : 0; }
+int fpl_lattice_boundary(const fpl_lattice *lattice) { return lattice ? lattice->boundary : -1; }
 
 /* Common argument checks; return 0 or an error status already recorded. */
 #define CHECK_LATTICE(lat)                                                                     \
