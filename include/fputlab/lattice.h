@@ -74,11 +74,19 @@ FPL_API const char *fpl_model_name(int model);
 /* Copy the variability into v (length n must equal N). */
 FPL_API int fpl_lattice_get_v(const fpl_lattice *lattice, double *v, int n);
 
+/* The top of the bond potential's barrier on either side of r = 0: *lower < 0 < *upper are
+ * the nearest non-zero roots of V'(r), -INFINITY / INFINITY where there is none. FPUT-alpha-beta:
+ * the roots of 1 + alpha r + beta r^2 (beta = 0: -1/alpha; alpha^2 <= 4 beta: none); Toda: none.
+ * Past a barrier a bond has left the well around r = 0 (the default blow-up criterion). For
+ * models 2 and 3 it is the barrier of V in the weighted stretch r_j (v_j = 1: the plain one). */
+FPL_API int fpl_lattice_barrier(const fpl_lattice *lattice, double *lower, double *upper);
+
 /* Force F(x) = p' (length N). */
 FPL_API int fpl_lattice_force(const fpl_lattice *lattice, const double *x, double *force);
 
 /* Tridiagonal Jacobian dF/dx at x: lower[j] = dF_{j+1}/dx_j, diag[j] = dF_j/dx_j,
- * upper[j] = dF_j/dx_{j+1} (0-based; lower and upper have N-1 entries). Symmetric for models 1-2. */
+ * upper[j] = dF_j/dx_{j+1} (0-based; lower and upper have N-1 entries). Symmetric for models 1-2.
+ * Fixed ends only: a periodic chain's is not tridiagonal (FPL_ERR_ARG; use the dense Jacobian). */
 FPL_API int fpl_lattice_force_jacobian(const fpl_lattice *lattice, const double *x, double *lower,
                                        double *diag, double *upper);
 

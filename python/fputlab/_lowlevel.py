@@ -226,6 +226,12 @@ class LatticeHandle(_Handle):
     def errmsg(self) -> str:
         return _string(lib.fpl_lattice_errmsg(self.ptr))
 
+    def barrier(self) -> tuple[float, float]:
+        """fpl_lattice_barrier: (lower, upper), -inf / inf where there is none."""
+        lo, up = ffi.new("double *"), ffi.new("double *")
+        self.check(lib.fpl_lattice_barrier(self.ptr, lo, up))
+        return float(lo[0]), float(up[0])
+
     def check(self, status: int) -> int:
         """`fputlab._errors.check` with this handle's message."""
         return check(status, self.errmsg)

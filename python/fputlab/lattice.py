@@ -129,8 +129,8 @@ class Lattice:
             self.seed = None
             v_arr = as_float_array(v, "v", (self.N,))
         elif self.tau != 0.0 or seed is not None:
-            if self.model_code == MODELS["homogeneous"] and self.tau != 0.0:
-                raise ValueError("tau: the homogeneous model has no disorder; "
+            if self.model_code in (MODELS["homogeneous"], MODELS["toda"]) and self.tau != 0.0:
+                raise ValueError(f"tau: the {self.model} model has no disorder; "
                                  "use model='hamiltonian' or 'nonlinear'")
             self.seed = (int.from_bytes(os.urandom(4), "little") if seed is None
                          else _int(seed, "seed", C_U64))
@@ -158,6 +158,13 @@ class Lattice:
     def v(self) -> np.ndarray:
         """The variability v_j (a copy)."""
         return self._h.get_v()
+
+    @property
+    def barrier(self) -> tuple[float, float]:
+        """(lower, upper): the tops of the bond potential's barrier on either side of r = 0, the
+        nearest non-zero roots of V'(r); -inf / inf where there is none (C: fpl_lattice_barrier).
+        FPUT-α: (-1/α, inf) for α > 0; α² <= 4β: none; Toda: none."""
+        return self._h.barrier()
 
     @property
     def omega(self) -> np.ndarray:
@@ -189,8 +196,15 @@ class Lattice:
         return self._h.force(x)
 
     def force_jacobian(self, x, dense: bool = False):
-        """dF/dx at x: (lower, diag, upper) of the tridiagonal, or the dense N x N matrix."""
+        """dF/dx at x: (lower, diag, upper) of the tridiagonal, or the dense N x N matrix (the
+        only form for a periodic chain, whose wrap-around bond couples x_0 and x_{N-1})."""
         x = as_float_array(x, "x", (self.N,))
+        if self.boundary == "periodic":
+            if not dense:
+                raise ValueError("dense: the force Jacobian of a periodic chain is not "
+                                 "tridiagonal; use force_jacobian(x, dense=True)")
+            y = np.concatenate([x, np.zeros(self.N)])
+            return self._h.jacobian_dense(y, 0)[self.N:, :self.N].copy()
         lo, di, up = self._h.force_jacobian(x)
         lo, up = lo[:-1].copy(), up[:-1].copy()
         if not dense:
