@@ -172,6 +172,10 @@ void fpl_split_step(const fpl_splitting *scheme, const fpl_split_system *sys, do
 void fpl_split_steps(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
                      double dt, long n);
 
+/* How often (in steps) stopping criteria are evaluated on a fixed-step run (the splitting back
+ * end and the chaos batch kernel alike): their cost is O(N), like a force. */
+#define FPL_EVENT_BLOCK 16
+
 /* How often (in steps) the grid driver looks for NaN/Inf: a blow-up is caught early, placed in
  * time, and the state rolled back to the last finite grid state (a copy every chunk costs
  * ~1/1000 of the work). */
