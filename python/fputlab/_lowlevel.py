@@ -282,6 +282,12 @@ class LatticeHandle(_Handle):
         self.check(lib.fpl_lattice_velocity(self.ptr, ptr(y), ptr(out)))
         return out
 
+    def modes_frequencies(self) -> np.ndarray:
+        """fpl_modes_frequencies: omega in the order of the mode energies."""
+        out = np.empty(self.N)
+        self.check(lib.fpl_modes_frequencies(self.ptr, ptr(out)))
+        return out
+
     def modes_transform(self, x: np.ndarray, out: np.ndarray) -> None:
         self.check(lib.fpl_modes_transform(self.ptr, ptr(x), ptr(out)))
 
