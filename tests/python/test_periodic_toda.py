@@ -246,3 +246,35 @@ def test_lattice_pickles_with_its_boundary(model):
     assert back.boundary == "periodic" and back.model == model
     np.testing.assert_array_equal(back.v, lat.v)
     assert "periodic" in repr(lat)
+
+
+def test_reductions_refuse_rings_and_toda():
+    from fputlab import reduction
+    ring = Lattice(8, 0.25, boundary="periodic")
+    with pytest.raises(ValueError, match="boundary"):
+        reduction.Galerkin(ring, 2)
+    with pytest.raises(ValueError, match="sine modes"):
+        reduction.two_mode_coefficients(ring)
+    with pytest.raises(ValueError, match="model"):
+        reduction.Galerkin(Lattice(8, 0.25, "toda"), 2)
+    with pytest.raises(ValueError, match="model"):
+        reduction.two_mode_coefficients(Lattice(8, 0.25, "toda"))
+
+
+def test_results_file_records_the_boundary(tmp_path):
+    """A ring's results file says so, and a fixed-end run cannot resume it."""
+    import h5py
+    from fputlab import io
+    ring = Lattice(8, 0.25, boundary="periodic")
+    path = tmp_path / "ring.h5"
+    ck = tmp_path / "ring.ck"
+    io.simulate_to_file(ring, 2.0, path, y0=ring.mode_state(1, 0.3), checkpoint=ck,
+                        sample_every=0.5)
+    with h5py.File(path) as f:
+        assert f.attrs["boundary"] in ("periodic", b"periodic")
+        np.testing.assert_array_equal(f["mode"][:], np.arange(8))
+    run = io.load(path)
+    np.testing.assert_allclose(run.mode_energies[0], ring.mode_energies(ring.mode_state(1, 0.3)),
+                               rtol=1e-12)
+    with pytest.raises(Exception, match="boundar"):
+        io.simulate_to_file(Lattice(8, 0.25), 4.0, path, checkpoint=ck, resume=True)
