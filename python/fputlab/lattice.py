@@ -47,8 +47,9 @@ def _boundary_code(boundary) -> int:
 _PARAMETERS = frozenset({"N", "alpha", "beta", "model", "model_code", "tau", "seed", "disorder",
                          "boundary"})
 
-#: bytes of memory per site of a lattice (C arrays, modes, Python copies), for the estimate
-_BYTES_PER_SITE = 8 * 24
+#: bytes of memory per site of a lattice (C arrays, modes, Python copies; the mode transform's
+#: FFT scratch takes up to ~36 doubles a site where it uses Bluestein's algorithm), for the estimate
+_BYTES_PER_SITE = 8 * 60
 
 
 def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.ndarray:
