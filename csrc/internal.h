@@ -33,9 +33,8 @@ typedef struct fpl_work {
     double *phi;    /* N+1: bond forces */
     double *kappa;  /* N+1: bond curvatures dphi/dR - dL/dR part */
     double *dphi;   /* N+1: tangent bond forces; the velocities in fpl_modes_energies_work */
-    double *fft;    /* 2(N+1) for the sine transform */
-    void *fft_wavetable;  /* NULL unless created with_modes */
-    void *fft_workspace;
+    double *fft;    /* 2(N+1) for the sine transform (N for the Fourier one) */
+    struct fpl_rdft *rdft;  /* the real FFT of the mode transform; NULL without modes */
     double *ek;     /* N: mode energies for the event criteria */
     /* FPL_KAPPA_STAGES x (N+1): the bond curvatures of every kick of one step, for the fused
      * steppers with many deviation vectors (each vector then runs the whole step while it stays
@@ -47,9 +46,23 @@ typedef struct fpl_work {
 #define FPL_KAPPA_STAGES 14
 #define FPL_KAPPA_STAGES_MAX_N 8192
 
-/* Allocate a workspace for lattices of N = n (errors via fpl_error); with_modes: also the FFT
- * tables of the mode transforms (fpl_modes_energies_work, mode-energy criteria). */
-int fpl_work_create(int n, int with_modes, fpl_work **out);
+/* A real DFT of any length m in O(m log m) (fft.c): GSL's mixed radix, or Bluestein's algorithm
+ * for lengths with a large prime factor. forward: data (length m) -> GSL's half-complex layout
+ * (X_0, Re X_1, Im X_1, ..., and Re X_{m/2} last for even m), in place. */
+typedef struct fpl_rdft fpl_rdft;
+int fpl_rdft_create(size_t m, fpl_rdft **out);
+int fpl_rdft_forward(fpl_rdft *plan, double *data);
+void fpl_rdft_free(fpl_rdft **plan);
+
+/* The mode transform a workspace carries: none, the fixed chain's sine transform (a real FFT of
+ * length 2(N+1)) or the periodic chain's Fourier transform (length N). */
+enum { FPL_WORK_NO_MODES = 0, FPL_WORK_SINE_MODES = 1, FPL_WORK_FOURIER_MODES = 2 };
+#define FPL_WORK_MODES_OF(lat) \
+    ((lat)->boundary == FPL_BOUNDARY_PERIODIC ? FPL_WORK_FOURIER_MODES : FPL_WORK_SINE_MODES)
+
+/* Allocate a workspace for lattices of N = n (errors via fpl_error); modes: also the FFT plan of
+ * that mode transform (fpl_modes_energies_work, mode-energy criteria). */
+int fpl_work_create(int n, int modes, fpl_work **out);
 void fpl_work_free(fpl_work **work);
 
 /* A model is data: per-particle coefficient arrays plus a table of kernels.
@@ -75,11 +88,23 @@ typedef struct fpl_model_ops {
     void (*steps)(const fpl_splitting *scheme, void *ctx, double *y, double dt, long n);
     /* energy of a 2N state */
     double (*energy)(const fpl_lattice *lat, const double *y);
+    /* The entries below are zero for the polynomial fixed-end models of models.c' ops_table.
+     * boundary: FPL_BOUNDARY_FIXED or FPL_BOUNDARY_PERIODIC (the lookup is by model and
+     * boundary, fpl_model_ops_lookup). force, tangent, jacobian_entries: optional replacements of
+     * the generic kernels fpl_kernel_force, fpl_kernel_tangent, fpl_kernel_jacobian_entries (the
+     * periodic chains and the Toda lattice, models_any.c). */
+    int boundary;
+    void (*force)(const fpl_lattice *lat, fpl_work *work, const double *x, double *f);
+    void (*tangent)(const fpl_lattice *lat, fpl_work *work, const double *x, int n_dev,
+                    const double *dx, double *df);
+    void (*jacobian_entries)(const fpl_lattice *lat, const double *y, int n_dev,
+                             void (*emit)(void *ctx, long row, long col, double value), void *ctx);
 } fpl_model_ops;
 
 /* Immutable after fpl_lattice_create. */
 struct fpl_lattice {
     int n;
+    int boundary;   /* FPL_BOUNDARY_FIXED or FPL_BOUNDARY_PERIODIC */
     double alpha, beta;
     const fpl_model_ops *ops;
     double *v;      /* N */
@@ -89,8 +114,10 @@ struct fpl_lattice {
     double *minv;   /* N */
 };
 
-/* NULL, or the model's entry. */
+/* NULL, or the model's entry (fixed ends). */
 const fpl_model_ops *fpl_model_ops_for(int model);
+/* NULL, or the entry of the model with that boundary condition. */
+const fpl_model_ops *fpl_model_ops_lookup(int model, int boundary);
 /* FPL_ERR_UNKNOWN "model %d is unknown (1 homogeneous, ...)" listing the table. */
 int fpl_model_unknown(int model);
 
@@ -249,5 +276,9 @@ void fpl_kernel_anharmonic_tangent(const fpl_lattice *lat, fpl_work *work, const
                                    double *df);
 
 int fpl_is_finite_array(const double *a, long len, long *first_bad);
+
+/* The nearest barrier of the bond potential in |stretch|, min(-lower, upper) of
+ * fpl_lattice_barrier: INFINITY if there is none (barrier.c). */
+double fpl_barrier_stretch(const fpl_lattice *lattice);
 
 #endif

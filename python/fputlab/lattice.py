@@ -15,8 +15,11 @@ MODELS = {
     "homogeneous": ll.MODEL_CODES["homogeneous"],   # Eqs. (Hamilt), (eqnmotions)
     "hamiltonian": ll.MODEL_CODES["hamiltonian"],   # Eqs. (dis1), (Hamilt2mod): v in both couplings
     "nonlinear": ll.MODEL_CODES["nonlinear"],       # Eq. (varnonlin): v in the nonlinear terms only
+    "toda": ll.MODEL_CODES["toda"],                 # V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2)
 }
 DISORDERS = dict(ll.DISORDER_CODES)
+#: boundary-condition names -> C codes ("fixed": walls at both ends; "periodic": a ring)
+BOUNDARIES = dict(ll.BOUNDARY_CODES)
 
 
 def _model_code(model) -> int:
@@ -26,16 +29,27 @@ def _model_code(model) -> int:
         return MODELS[model]
     if isinstance(model, (int, np.integer)) and not isinstance(model, bool):
         if int(model) not in MODELS.values():
-            raise ValueError(f"model {model} is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)")
+            raise ValueError(f"model {model} is unknown (1 homogeneous, 2 hamiltonian, "
+                             "3 nonlinear, 4 toda)")
         return int(model)
-    raise TypeError(f"model must be a name or 1, 2, 3, got {type(model).__name__}")
+    raise TypeError(f"model must be a name or 1, 2, 3, 4, got {type(model).__name__}")
+
+
+def _boundary_code(boundary) -> int:
+    if not isinstance(boundary, str):
+        raise TypeError(f"boundary must be 'fixed' or 'periodic', got {type(boundary).__name__}")
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"boundary {boundary!r} is unknown (known: {', '.join(BOUNDARIES)})")
+    return BOUNDARIES[boundary]
 
 
 #: parameters a Lattice is built from: fixed once built (the C lattice holds copies)
-_PARAMETERS = frozenset({"N", "alpha", "beta", "model", "model_code", "tau", "seed", "disorder"})
+_PARAMETERS = frozenset({"N", "alpha", "beta", "model", "model_code", "tau", "seed", "disorder",
+                         "boundary"})
 
-#: bytes of memory per site of a lattice (C arrays, modes, Python copies), for the estimate
-_BYTES_PER_SITE = 8 * 24
+#: bytes of memory per site of a lattice (C arrays, modes, Python copies; the mode transform's
+#: FFT scratch takes up to ~36 doubles a site where it uses Bluestein's algorithm), for the estimate
+_BYTES_PER_SITE = 8 * 60
 
 
 def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.ndarray:
@@ -65,10 +79,11 @@ class Lattice:
         Number of particles (>= 2).
     alpha : float, optional
         Cubic coupling α (the paper's value is 0.25).
-    model : {"homogeneous", "hamiltonian", "nonlinear"} or {1, 2, 3}, optional
+    model : {"homogeneous", "hamiltonian", "nonlinear", "toda"} or {1, 2, 3, 4}, optional
         "homogeneous" (1; Eqs. Hamilt/eqnmotions); "hamiltonian" (2; v in the linear and
         nonlinear couplings, masses v; Eqs. dis1/Hamilt2mod); "nonlinear" (3; v in the
-        nonlinear terms only, not Hamiltonian; Eq. varnonlin).
+        nonlinear terms only, not Hamiltonian; Eq. varnonlin); "toda" (4; the integrable Toda
+        chain V(r) = (e^{2αr} - 1 - 2αr)/(4α²), homogeneous, β must be 0).
     beta : float, optional
         Quartic coupling β (FPUT-αβ; 0 in the paper).
     tau : float, optional
@@ -80,6 +95,9 @@ class Lattice:
         Distribution of z (see `draw_disorder`).
     v : array_like, optional
         The variability v_j itself (length N), instead of `tau` and `seed`.
+    boundary : {"fixed", "periodic"}, optional
+        "fixed": walls x_0 = x_{N+1} = 0 (N + 1 bonds, the paper); "periodic": a ring of N
+        particles and N bonds (x_N = x_0), normal modes are Fourier modes (docs/conventions.md).
 
     Raises
     ------
@@ -89,12 +107,14 @@ class Lattice:
 
     def __init__(self, N: int = 64, alpha: float = 0.25, model="homogeneous", *,
                  beta: float = 0.0, tau: float = 0.0, seed: int | None = None,
-                 disorder: str = "gaussian", v=None):
+                 disorder: str = "gaussian", v=None, boundary: str = "fixed"):
         self.N = _int(N, "N")
         self.alpha = _real(alpha, "alpha")
         self.beta = _real(beta, "beta")
         self.model_code = _model_code(model)
         self.model = ll.model_name(self.model_code)
+        boundary_code = _boundary_code(boundary)
+        self.boundary = boundary
         self.tau = _real(tau, "tau")
         if not isinstance(disorder, str):
             raise TypeError(f"disorder must be a string, got {type(disorder).__name__}")
@@ -110,8 +130,8 @@ class Lattice:
             self.seed = None
             v_arr = as_float_array(v, "v", (self.N,))
         elif self.tau != 0.0 or seed is not None:
-            if self.model_code == MODELS["homogeneous"] and self.tau != 0.0:
-                raise ValueError("tau: the homogeneous model has no disorder; "
+            if self.model_code in (MODELS["homogeneous"], MODELS["toda"]) and self.tau != 0.0:
+                raise ValueError(f"tau: the {self.model} model has no disorder; "
                                  "use model='hamiltonian' or 'nonlinear'")
             self.seed = (int.from_bytes(os.urandom(4), "little") if seed is None
                          else _int(seed, "seed", C_U64))
@@ -119,7 +139,8 @@ class Lattice:
         else:
             self.seed = None
             v_arr = np.ones(self.N)
-        self._h = ll.LatticeHandle(self.N, self.alpha, self.beta, self.model_code, v_arr)
+        self._h = ll.LatticeHandle(self.N, self.alpha, self.beta, self.model_code, v_arr,
+                                   boundary_code)
         self._built = True
 
     def __setattr__(self, name, value):
@@ -140,14 +161,32 @@ class Lattice:
         return self._h.get_v()
 
     @property
+    def barrier(self) -> tuple[float, float]:
+        """(lower, upper): the tops of the bond potential's barrier on either side of r = 0, the
+        nearest non-zero roots of V'(r); -inf / inf where there is none (C: fpl_lattice_barrier).
+        FPUT-α: (-1/α, inf) for α > 0; α² <= 4β: none; Toda: none."""
+        return self._h.barrier()
+
+    @property
     def omega(self) -> np.ndarray:
-        """Normal-mode frequencies omega_k = 2 sin(k pi / (2(N+1))), k = 1..N."""
-        return _omega(self.N)
+        """Normal-mode frequencies in the order of `mode_energies`: omega_k = 2 sin(k pi /
+        (2(N+1))), k = 1..N (fixed ends), or omega_k = 2 sin(pi k/N), k = 0..N-1 (periodic)."""
+        if self.boundary == "fixed":
+            return _omega(self.N)
+        return self._h.modes_frequencies()
+
+    @property
+    def mode_numbers(self) -> np.ndarray:
+        """The mode index k of each column of `mode_energies`: 1..N (fixed ends, sine modes) or
+        the wavenumbers 0..N-1 (periodic; k = 0 is the centre-of-mass motion)."""
+        first = 1 if self.boundary == "fixed" else 0
+        return np.arange(first, first + self.N)
 
     def __repr__(self) -> str:
         dis = f", tau={self.tau:g}, seed={self.seed}" if self.seed is not None else ""
+        bnd = f", boundary={self.boundary!r}" if self.boundary != "fixed" else ""
         return (f"Lattice(N={self.N}, alpha={self.alpha:g}, model={self.model!r}"
-                f"{', beta=%g' % self.beta if self.beta else ''}{dis})")
+                f"{', beta=%g' % self.beta if self.beta else ''}{dis}{bnd})")
 
     # -- helpers ------------------------------------------------------------------------------
     def _state(self, y, name="y"):
@@ -168,8 +207,15 @@ class Lattice:
         return self._h.force(x)
 
     def force_jacobian(self, x, dense: bool = False):
-        """dF/dx at x: (lower, diag, upper) of the tridiagonal, or the dense N x N matrix."""
+        """dF/dx at x: (lower, diag, upper) of the tridiagonal, or the dense N x N matrix (the
+        only form for a periodic chain, whose wrap-around bond couples x_0 and x_{N-1})."""
         x = as_float_array(x, "x", (self.N,))
+        if self.boundary == "periodic":
+            if not dense:
+                raise ValueError("dense: the force Jacobian of a periodic chain is not "
+                                 "tridiagonal; use force_jacobian(x, dense=True)")
+            y = np.concatenate([x, np.zeros(self.N)])
+            return self._h.jacobian_dense(y, 0)[self.N:, :self.N].copy()
         lo, di, up = self._h.force_jacobian(x)
         lo, up = lo[:-1].copy(), up[:-1].copy()
         if not dense:
@@ -216,7 +262,11 @@ class Lattice:
 
     # -- modes --------------------------------------------------------------------------------
     def to_modes(self, x) -> np.ndarray:
-        """Q = A x (A^{-1} = A, so this also maps Q back to x). x of shape (N,) or (S, N)."""
+        """Q = A x (A^{-1} = A, so this also maps Q back to x). x of shape (N,) or (S, N).
+
+        Fixed ends: the sine transform A_jk = sqrt(2/(N+1)) sin(jk pi/(N+1)); periodic: the
+        orthonormal Hartley transform A_jk = N^{-1/2} (cos + sin)(2 pi jk/N), the Fourier modes
+        as real standing waves (docs/conventions.md)."""
         arr = as_float_array(x, "x", last=self.N)
         flat = arr.reshape(-1, self.N)
         out = np.empty_like(flat)
@@ -227,7 +277,9 @@ class Lattice:
     from_modes = to_modes
 
     def mode_energies(self, y) -> np.ndarray:
-        """E_k = (P_k^2 + omega_k^2 Q_k^2)/2, k = 1..N, for a state (2N,) or states (S, 2N)."""
+        """E_k = (P_k^2 + omega_k^2 Q_k^2)/2 for a state (2N,) or states (S, 2N): k = 1..N for
+        fixed ends, wavenumbers k = 0..N-1 for a periodic chain (`mode_numbers`; E_0 is the
+        kinetic energy of the centre of mass). O(N log N) for every N."""
         arr = as_float_array(y, "y", last=2 * self.N)
         flat = arr.reshape(-1, 2 * self.N)
         out = np.empty((flat.shape[0], self.N))
@@ -237,7 +289,8 @@ class Lattice:
 
     def mode_state(self, k: int = 1, amplitude: float = 1.0, coupled: bool = False) -> np.ndarray:
         """Single-mode state: x_j = amplitude sin(pi k j/(N+1)), p = 0 (paper Eq. initxi for k = 1,
-        amplitude 1). coupled=True puts the sine in v_j x_j instead (model 2's smooth mode)."""
+        amplitude 1); periodic: x_j = amplitude sin(2 pi k j/N + pi/4), k = 1..N-1, the single
+        Hartley mode k. coupled=True puts the shape in v_j x_j instead (model 2's smooth mode)."""
         return self._h.initial_state(_int(k, "k"), _real(amplitude, "amplitude"), bool(coupled))
 
     # -- integration: Lattice.integrate(t_end, ...) = fputlab.integrate(lattice, t_end, ...) is
@@ -246,11 +299,11 @@ class Lattice:
     def __reduce__(self):
         # Picklable for process pools: rebuilt from its parameters (v passed explicitly).
         return (_rebuild, (self.N, self.alpha, self.model, self.beta, self.v, self.tau, self.seed,
-                           self.disorder))
+                           self.disorder, self.boundary))
 
 
-def _rebuild(N, alpha, model, beta, v, tau, seed, disorder):
-    lat = Lattice(N, alpha, model, beta=beta, v=v)
+def _rebuild(N, alpha, model, beta, v, tau, seed, disorder, boundary="fixed"):
+    lat = Lattice(N, alpha, model, beta=beta, v=v, boundary=boundary)
     for name, value in (("tau", tau), ("seed", seed), ("disorder", disorder)):
         object.__setattr__(lat, name, value)
     return lat
