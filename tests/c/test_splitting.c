@@ -651,7 +651,7 @@ static void test_model_kernels(void)
                         memcpy(yc, y0, sizeof(double) * (size_t)len);
                         CHECK_OK(fpl_splitting_advance(sc, lat, ya, k, 0.05, steps));
                         /* one call per stage through the model table's drift and kick */
-                        fpl_work w = {n, phi, kap, dphi, NULL, NULL, NULL, NULL, NULL};
+                        fpl_work w = {.n = n, .phi = phi, .kappa = kap, .dphi = dphi};
                         fpl_lattice_ctx ctx = {lat, &w, k};
                         for (long st = 0; st < steps; st++) {
                             for (int i = 0; i < sc->n_kicks; i++) {
