@@ -1,7 +1,7 @@
 """File-system primitives every writer of fputlab uses: a file appears whole or not at all
 (written under a unique temporary name in its own directory, flushed to disk, renamed), an
 exclusive creation that two racing processes cannot both win, leftover temporaries cleaned, and
-one advisory lock per directory (fcntl) so that two runners never share a work directory.
+one lock per directory (fcntl.lockf) so that two runners never share a work directory.
 
 Only the standard library, numpy and h5py: every layer may write through this module."""
 from __future__ import annotations
@@ -102,43 +102,59 @@ class DirectoryBusy(RuntimeError):
     """Another process holds the lock of a work directory."""
 
 
+#: the directories this process holds locks on (POSIX locks are per process: a second lock from
+#: the same process would succeed, so this process's own holders are refused here)
+_HELD: set = set()
+
+
 class DirectoryLock:
-    """An exclusive advisory lock (fcntl.flock) on ``directory/.lock``, held while the object is
-    open; the kernel drops it when the process dies, so a killed runner never leaves a stale
-    lock. A second locker is refused at once with `DirectoryBusy` naming the holder."""
+    """An exclusive lock on ``directory/.lock``, held while the object is open: a POSIX record
+    lock (fcntl.lockf), which the kernel drops when the process dies (a killed runner never leaves
+    a stale lock) and which forked workers do not inherit (a killed runner's orphaned pool
+    workers never hold it); within one process a second holder is refused too. A second locker
+    is refused at once with `DirectoryBusy` naming the holder's pid."""
 
     def __init__(self, directory, what: str = "work directory"):
         self.directory = Path(directory)
         self.what = what
         self._fd = None
+        self._key = None
+
+    def _busy(self, holder: str) -> DirectoryBusy:
+        return DirectoryBusy(
+            f"{self.what} {str(self.directory)!r} is in use by another runner"
+            f"{f' (pid {holder})' if holder else ''}: wait for it to finish or stop it; "
+            "two runners on one directory would duplicate work")
 
     def acquire(self) -> "DirectoryLock":
         import fcntl
+        key = os.path.realpath(self.directory)
+        if key in _HELD:
+            raise self._busy(str(os.getpid()))
         path = self.directory / ".lock"
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            fcntl.lockf(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError as err:
             holder = ""
             with contextlib.suppress(OSError, ValueError):
                 holder = os.pread(fd, 64, 0).decode().strip()
             os.close(fd)
             if err.errno in (errno.EAGAIN, errno.EACCES, errno.EWOULDBLOCK):
-                raise DirectoryBusy(
-                    f"{self.what} {str(self.directory)!r} is in use by another runner"
-                    f"{f' (pid {holder})' if holder else ''}: wait for it to finish or stop it; "
-                    "two runners on one directory would duplicate work") from None
+                raise self._busy(holder) from None
             raise
         os.ftruncate(fd, 0)
         os.pwrite(fd, str(os.getpid()).encode(), 0)
-        self._fd = fd
+        self._fd, self._key = fd, key
+        _HELD.add(key)
         return self
 
     def release(self) -> None:
         if self._fd is not None:
             with contextlib.suppress(OSError):
                 os.ftruncate(self._fd, 0)
-            os.close(self._fd)        # closing drops the flock
+            os.close(self._fd)        # closing drops the lock
+            _HELD.discard(self._key)
             self._fd = None
 
     def __enter__(self):
