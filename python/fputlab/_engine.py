@@ -128,10 +128,12 @@ class SchedulerLost(RuntimeError):
     """The Dask scheduler went away during a run (what finished is kept by the caller)."""
 
 
-def _dask_client(scheduler, timeout: float = CONNECT_TIMEOUT):
+def _dask_client(scheduler, timeout: float | None = None):
     """(client, owned): a Client for an address, a Client as given, or one for a Cluster. An
-    address that does not answer within `timeout` seconds raises OSError naming it."""
+    address that does not answer within `timeout` seconds (default `CONNECT_TIMEOUT`) raises
+    OSError naming it."""
     from dask.distributed import Client
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
     if isinstance(scheduler, Client):
         return scheduler, False
     if isinstance(scheduler, str) or hasattr(scheduler, "scheduler_address"):
