@@ -6,6 +6,7 @@
  * open for writing, and a run killed by SIGKILL would leave a file nobody can open.) Resuming
  * reads back every row it keeps (verified) before it changes anything. */
 #define _POSIX_C_SOURCE 200809L
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -128,8 +129,12 @@ static int check_info(const fpl_lattice *lat, const fpl_run_info *info)
 {
     if (!lat) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
     if (!info) return fpl_error(NULL, FPL_ERR_ARG, "info: NULL run description");
-    if (info->n_dev < 0)
-        return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", info->n_dev);
+    long dim;
+    int st = fpl_state_length(lat->n, info->n_dev, &dim);
+    if (st) return st;
+    if (info->store_states && dim > INT_MAX)   /* the columns of `states` are an int */
+        return fpl_error(NULL, FPL_ERR_ARG, "store_states: a state of %ld doubles is too wide to "
+                         "store as one row", dim);
     if (info->chunk_rows < 0)
         return fpl_error(NULL, FPL_ERR_ARG, "chunk_rows must be >= 0 (got %d)", info->chunk_rows);
     return FPL_OK;
