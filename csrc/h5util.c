@@ -5,8 +5,27 @@
 #include <stdio.h>
 #include <string.h>
 
+/* libhdf5 (1.10) closes every file still open at exit, and a file whose flush failed (a full
+ * disk) stays registered after H5Fclose fails: at exit the library loops on it ("infinite loop
+ * closing library") or crashes in H5F__close_cb, turning a clean "No space left on device"
+ * into a SIGSEGV. fputlab's files never need that exit-time close (every chunk, status and
+ * checkpoint is flushed when written; a process ending with a file open is the same as a kill,
+ * which the formats are built to survive), so the library's exit handler is not registered.
+ * H5dont_atexit only works before HDF5's first use in the process, so it is called before each
+ * of fputlab's HDF5 calls: if an embedder initialised HDF5 first, it fails harmlessly and their
+ * choice stands. */
+static void no_exit_close(void)
+{
+    static int done;
+    if (!done) {
+        done = 1;
+        H5dont_atexit();
+    }
+}
+
 void fpl_h5_quiet_begin(fpl_h5_quiet *q)
 {
+    no_exit_close();
     q->func = NULL;
     q->data = NULL;
     H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data);
@@ -15,23 +34,40 @@ void fpl_h5_quiet_begin(fpl_h5_quiet *q)
 
 void fpl_h5_quiet_end(const fpl_h5_quiet *q) { H5Eset_auto2(H5E_DEFAULT, q->func, q->data); }
 
-typedef struct { char *buf; size_t len; } walk_ctx;
+typedef struct { char *buf; size_t len; char os[128]; } walk_ctx;
 
-/* The stack is walked from the innermost (most specific) entry outwards: keep the first. */
+/* The stack is walked from the innermost (most specific) entry outwards: keep the first, and
+ * the operating system's reason wherever an entry carries one (HDF5's file drivers write
+ * "errno = 28, error message = 'No space left on device'" into their entry, which is often
+ * not the innermost one: a failed flush reports "unable to flush file's cached information"). */
 static herr_t walk_first(unsigned n, const H5E_error2_t *err, void *ctx_)
 {
     walk_ctx *ctx = ctx_;
     if (n == 0 && err && err->desc)
         snprintf(ctx->buf, ctx->len, "%s (in %s)", err->desc, err->func_name ? err->func_name : "?");
+    static const char key[] = "error message = '";
+    const char *at = err && err->desc && !ctx->os[0] ? strstr(err->desc, key) : NULL;
+    if (at) {
+        at += sizeof key - 1;
+        const char *end = strchr(at, '\'');
+        int n_os = end ? (int)(end - at) : (int)strlen(at);
+        snprintf(ctx->os, sizeof ctx->os, "%.*s", n_os, at);
+    }
     return 0;
 }
 
 const char *fpl_h5_error_text(char *buf, size_t len)
 {
-    walk_ctx ctx = {buf, len};
+    walk_ctx ctx = {buf, len, {0}};
     if (len) buf[0] = '\0';
     H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_first, &ctx);
     H5Eclear2(H5E_DEFAULT);
+    /* the OS reason first ("No space left on device: ..."), unless the message already says it */
+    if (ctx.os[0] && len && !strstr(buf, ctx.os)) {
+        char inner[512];
+        snprintf(inner, sizeof inner, "%s", buf);
+        snprintf(buf, len, "%s: %s", ctx.os, inner);
+    }
     return buf;
 }
 

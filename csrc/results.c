@@ -6,6 +6,7 @@
  * open for writing, and a run killed by SIGKILL would leave a file nobody can open.) Resuming
  * reads back every row it keeps (verified) before it changes anything. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -179,12 +180,11 @@ static int create_in(fpl_results *r, const char *path, const fpl_run_info *info)
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     r->file = fapl >= 0 && H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18) >= 0
                   ? H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl) : -1;
+    char msg[256] = "";
+    if (r->file < 0) fpl_h5_error_text(msg, sizeof msg);   /* before any other call clears it */
     if (fapl >= 0) H5Pclose(fapl);
-    if (r->file < 0) {
-        char msg[256];
-        fpl_h5_error_text(msg, sizeof msg);
+    if (r->file < 0)
         return fpl_error(NULL, FPL_ERR_IO, "cannot create results file %s: %s", path, msg);
-    }
     if (fpl_h5_write_description(r->file, SCHEMA, r->lat, info) ||
         fpl_h5_set_string(r->file, "status", "running") ||
         fpl_h5_set_string(r->file, "message", ""))
@@ -211,11 +211,12 @@ int fpl_results_create(const char *path, const fpl_lattice *lat, const fpl_run_i
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     st = create_in(r, path, info);
+    int created = r->file >= 0;
+    if (st) release(r);   /* still quiet: closing a file that cannot be flushed reports errors */
+    if (st && created) remove(path);   /* a half-written file of ours helps nobody */
+    H5Eclear2(H5E_DEFAULT);
     fpl_h5_quiet_end(&q);
-    if (st) {
-        release(r);
-        return st;
-    }
+    if (st) return st;
     *out = r;
     return FPL_OK;
 }
@@ -385,7 +386,24 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
                          "corrupt?): %s", path, msg);
     }
     if ((st = fpl_h5_check_description(r->file, path, SCHEMA, r->lat, info->method))) return st;
+    char kind[64] = "", status[32] = "";
+    if (!fpl_h5_get_string(r->file, "kind", kind, sizeof kind) && info->kind &&
+        strcmp(kind, info->kind) != 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "%s holds a %s run, this run is %s (refused, nothing "
+                         "changed)", path, kind, info->kind);
     if ((st = load_pending(r, checkpoint, rows, crows))) return st;
+    /* Nothing the file holds may be lost by a resume beyond the rows of a run that was killed
+     * after its last checkpoint: a file with stored states continued by a run without them
+     * would lose its `states`, and a finished file (status not "running": its last checkpoint
+     * was written at its end) with more samples than the checkpoint covers belongs to a later
+     * checkpoint than this one. */
+    if (!r->store_states && H5Lexists(r->file, s_names[S_STATES], H5P_DEFAULT) > 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "%s stores the states at every sample, its checkpoint "
+                         "%s is of a run without them: resuming would drop them (refused, nothing "
+                         "changed; resume with the states stored)", path, checkpoint);
+    H5Eclear2(H5E_DEFAULT);
+    int finished = !fpl_h5_get_string(r->file, "status", status, sizeof status) &&
+                   strcmp(status, "running") != 0;
     for (int i = 0; i < S_COUNT; i++) {
         if (i == S_STATES && !r->store_states) continue;
         if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
@@ -420,6 +438,11 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
                              "checkpoint %s records: not the file of that run", path, have,
                              s_names[i], *rows, checkpoint);
+        if (finished && have > *rows + r->nbuf)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s is a finished run (status %s) with %ld samples; "
+                             "its checkpoint %s covers only %ld: the checkpoint is older than the "
+                             "file and resuming would drop %ld samples (refused, nothing changed)",
+                             path, status, have, checkpoint, *rows + r->nbuf, have - *rows - r->nbuf);
         int mismatch = 0;
         if (verify && read_back(&r->s[i], r->buf[i], *rows, r->chunk, &mismatch)) {
             char msg[256];
@@ -431,6 +454,19 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: its %s rows differ from those its "
                              "checkpoint %s covers (checksum mismatch)", path, s_names[i], checkpoint);
     }
+    if (finished && *crows == 0 && H5Lexists(r->file, "chaos", H5P_DEFAULT) > 0 &&
+        H5Lexists(r->file, c_names[C_T], H5P_DEFAULT) > 0) {
+        hid_t d = H5Dopen2(r->file, c_names[C_T], H5P_DEFAULT);
+        series probe = {d, 0, 0, 0};
+        long have = d >= 0 ? series_rows_checked(&probe) : -1;
+        if (d >= 0) H5Dclose(d);
+        if (have > r->ncbuf)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s is a finished run (status %s) with %ld chaos "
+                             "samples; its checkpoint %s covers only %d: the checkpoint is older "
+                             "than the file (refused, nothing changed)", path, status, have,
+                             checkpoint, r->ncbuf);
+    }
+    H5Eclear2(H5E_DEFAULT);
     for (int i = 0; i < C_COUNT && *crows > 0; i++) {
         long have = series_rows_checked(&r->c[i]);
         if (have < 0)
@@ -440,6 +476,11 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
                              "checkpoint %s records: not the file of that run", path, have,
                              c_names[i], *crows, checkpoint);
+        if (finished && have > *crows + r->ncbuf)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s is a finished run (status %s) with %ld chaos "
+                             "samples; its checkpoint %s covers only %ld: the checkpoint is older "
+                             "than the file (refused, nothing changed)", path, status, have,
+                             checkpoint, *crows + r->ncbuf);
         int mismatch = 0;
         if (verify && read_back(&r->c[i], r->cbuf[i], *crows, r->chunk, &mismatch)) {
             char msg[256];
@@ -557,8 +598,8 @@ int fpl_results_resume(const char *path, const fpl_lattice *lat, const fpl_run_i
         goto done;
     }
     if (fpl_fsync_path(tmp) != 0 || rename(tmp, target) != 0) {
-        st = fpl_error(NULL, FPL_ERR_IO, "cannot move the resumed results %s into place as %s",
-                       tmp, target);
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot move the resumed results %s into place as %s: %s",
+                       tmp, target, strerror(errno));
         goto done;
     }
     created = 0;

@@ -40,6 +40,24 @@ def _string(p) -> str:
     return ffi.string(p).decode() if p != ffi.NULL else ""
 
 
+def _cpath(path) -> bytes:
+    """A file name as the C library gets it. C ends a name at its first NUL byte, so a name with
+    one would silently name another file ('r.h5\\0.new' is 'r.h5'): refused here, the one place
+    names go to C, whatever the caller checked."""
+    b = os.fsencode(path)
+    if b"\0" in b:
+        raise ValueError(f"path: the file name {os.fsdecode(b)!r} contains a NUL byte")
+    return b
+
+
+def _cstr(text: str, name: str = "name") -> bytes:
+    """A name or message as a C string (a NUL byte would cut it short: refused)."""
+    b = text.encode()
+    if b"\0" in b:
+        raise ValueError(f"{name}: {text!r} contains a NUL byte")
+    return b
+
+
 def _nul(arr):
     """double* of an array, NULL for None or an empty array."""
     return ptr(arr) if arr is not None and arr.size else ffi.NULL
@@ -98,7 +116,7 @@ def method_names() -> list[str]:
 def method_info(method: str) -> tuple[int, bool]:
     """fpl_method_info: (order, adaptive)."""
     order, adaptive = ffi.new("int *"), ffi.new("int *")
-    check(lib.fpl_method_info(method.encode(), order, adaptive))
+    check(lib.fpl_method_info(_cstr(method, "method"), order, adaptive))
     return order[0], bool(adaptive[0])
 
 
@@ -289,7 +307,7 @@ class IntegratorHandle(_Handle):
                  y0: np.ndarray, events=None):
         out = ffi.new("fpl_integrator **")
         _with_events(options, events, lambda: check(lib.fpl_integrator_create(
-            lattice.ptr, method.encode(), n_dev, options, t0, ptr(y0), out)))
+            lattice.ptr, _cstr(method, "method"), n_dev, options, t0, ptr(y0), out)))
         self._own(out[0])
         self.lattice, self.shape = lattice, (1 + n_dev, 2 * lattice.N)
 
@@ -383,7 +401,8 @@ class ChaosHandle(_Handle):
                  w0: np.ndarray | None, chaos_opts, events=None):
         out = ffi.new("fpl_chaos **")
         _with_events(options, events, lambda: check(lib.fpl_chaos_create(
-            lattice.ptr, method.encode(), options, t0, ptr(y0), _nul(w0), chaos_opts, out)))
+            lattice.ptr, _cstr(method, "method"), options, t0, ptr(y0), _nul(w0), chaos_opts,
+            out)))
         self._own(out[0])
         self.lattice, self.n_dev = lattice, int(chaos_opts.n_dev)
 
@@ -428,7 +447,7 @@ class ChaosBatchHandle(_Handle):
         handles = ffi.new("fpl_lattice *[]", [lat.ptr for lat in self._lattices])
         out = ffi.new("fpl_chaos_batch **")
         _with_events(options, events, lambda: check(lib.fpl_chaos_batch_create(
-            handles, len(self._lattices), method.encode(), options, t0, ptr(y0), _nul(w0),
+            handles, len(self._lattices), _cstr(method, "method"), options, t0, ptr(y0), _nul(w0),
             batch_opts, out)))
         self._own(out[0])
 
@@ -503,7 +522,7 @@ class RunInfo:
         lib.fpl_run_info_init(self.c)
         for name, value in fields.items():
             if isinstance(value, str):
-                value = ffi.new("char[]", value.encode())
+                value = ffi.new("char[]", _cstr(value, name))
                 self._keep.append(value)
             setattr(self.c, name, value)
 
@@ -515,10 +534,10 @@ class ResultsHandle:
     def __init__(self, path, lattice: LatticeHandle, info: RunInfo, resume_from=None):
         out = ffi.new("fpl_results **")
         if resume_from is None:
-            check(lib.fpl_results_create(os.fspath(path).encode(), lattice.ptr, info.c, out))
+            check(lib.fpl_results_create(_cpath(path), lattice.ptr, info.c, out))
         else:
-            check(lib.fpl_results_resume(os.fspath(path).encode(), lattice.ptr, info.c,
-                                         os.fspath(resume_from).encode(), out))
+            check(lib.fpl_results_resume(_cpath(path), lattice.ptr, info.c,
+                                         _cpath(resume_from), out))
         self.ptr = out[0]
 
     def count(self) -> int:
@@ -531,10 +550,12 @@ class ResultsHandle:
         check(lib.fpl_results_append_chaos(self.ptr, t, mle, sali, gali))
 
     def set_status(self, status: str, message: str) -> None:
-        check(lib.fpl_results_set_status(self.ptr, status.encode(), message.encode()))
+        # a message is free text: a NUL in it is spelled out rather than refused at the end of a run
+        check(lib.fpl_results_set_status(self.ptr, _cstr(status, "status"),
+                                         message.replace("\0", "\\0").encode()))
 
     def set_event(self, t: float, criterion: str) -> None:
-        check(lib.fpl_results_set_event(self.ptr, t, criterion.encode()))
+        check(lib.fpl_results_set_event(self.ptr, t, _cstr(criterion, "criterion")))
 
     def flush(self) -> None:
         check(lib.fpl_results_flush(self.ptr))
@@ -555,14 +576,13 @@ class ResultsHandle:
 def results_verify(path, lattice: LatticeHandle, info: RunInfo, checkpoint) -> int:
     """fpl_results_verify: the status, unchecked (it may run in a forked child, which reports
     the status and `last_error()` to its parent)."""
-    return lib.fpl_results_verify(os.fspath(path).encode(), lattice.ptr, info.c,
-                                  os.fspath(checkpoint).encode())
+    return lib.fpl_results_verify(_cpath(path), lattice.ptr, info.c, _cpath(checkpoint))
 
 
 def checkpoint_write(path, integrator: IntegratorHandle, info: RunInfo, extra: np.ndarray,
                      results: ResultsHandle | None = None) -> None:
     """fpl_checkpoint_write (atomic), with the accumulators `extra` and where `results` stands."""
-    check(lib.fpl_checkpoint_write(os.fspath(path).encode(), integrator.ptr, info.c, _nul(extra),
+    check(lib.fpl_checkpoint_write(_cpath(path), integrator.ptr, info.c, _nul(extra),
                                    extra.size, results.ptr if results is not None else ffi.NULL))
 
 
@@ -571,7 +591,7 @@ def checkpoint_load(path, integrator: IntegratorHandle, info: RunInfo,
     """fpl_checkpoint_load: restores the integrator, returns the accumulators."""
     ex = np.empty(max(max_extra, 1))
     n = ffi.new("int *")
-    check(lib.fpl_checkpoint_load(os.fspath(path).encode(), integrator.ptr, info.c, ptr(ex),
+    check(lib.fpl_checkpoint_load(_cpath(path), integrator.ptr, info.c, ptr(ex),
                                   max_extra, n))
     return ex[:n[0]].copy()
 
@@ -579,7 +599,7 @@ def checkpoint_load(path, integrator: IntegratorHandle, info: RunInfo,
 def checkpoint_peek(path) -> tuple[float, int]:
     """fpl_checkpoint_peek: (t, step count)."""
     t, n = ffi.new("double *"), ffi.new("long *")
-    check(lib.fpl_checkpoint_peek(os.fspath(path).encode(), t, n))
+    check(lib.fpl_checkpoint_peek(_cpath(path), t, n))
     return t[0], int(n[0])
 
 
@@ -613,7 +633,7 @@ def chaos_gali(w: np.ndarray) -> float:
 def splitting_lookup(method: str):
     """fpl_splitting_lookup: the constant scheme table of a splitting method."""
     out = ffi.new("const fpl_splitting **")
-    check(lib.fpl_splitting_lookup(method.encode(), out))
+    check(lib.fpl_splitting_lookup(_cstr(method, "method"), out))
     return out[0]
 
 

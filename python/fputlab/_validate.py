@@ -3,6 +3,7 @@ is a TypeError, a value out of range a ValueError, and both name the parameter."
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -12,9 +13,24 @@ C_LONG = (-2**63, 2**63 - 1)
 C_U64 = (-2**63, 2**64 - 1)     # seeds (negative values get their own "must be >= 0" errors)
 
 
+def _path(value, name: str) -> str:
+    """A file-name parameter (str, bytes or path-like) as str. Refused: other types, the empty
+    name, and a NUL byte (C would end the name there and write another file)."""
+    if not isinstance(value, (str, bytes, os.PathLike)):
+        raise TypeError(f"{name} must be a file name (str, bytes or path-like), got "
+                        f"{type(value).__name__}")
+    path = os.fsdecode(os.fspath(value))
+    if "\0" in path:
+        raise ValueError(f"{name}: the file name {path!r} contains a NUL byte")
+    if not path:
+        raise ValueError(f"{name}: empty file name")
+    return path
+
+
 def _real(value, name: str) -> float:
-    """A real-number parameter as a float (bools and non-numbers refused)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+    """A real-number parameter as a float (bools, non-numbers and numpy times refused)."""
+    if isinstance(value, (bool, np.timedelta64, np.datetime64)) or \
+            not isinstance(value, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
     return float(value)
 
@@ -38,7 +54,8 @@ def _positive_real(value, name: str) -> float:
 def _int(value, name: str, bounds: tuple = C_INT) -> int:
     """An integer parameter, checked against the range of the C type it goes to (int by
     default): out of range is a ValueError naming it, not cffi's anonymous OverflowError."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+    if isinstance(value, (bool, np.timedelta64, np.datetime64)) or \
+            not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
     value = int(value)
     lo, hi = bounds
