@@ -382,6 +382,10 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
     if (r->file < 0) {
         char msg[256];
         fpl_h5_error_text(msg, sizeof msg);
+        /* HDF5 locks a file it opens (flock): EWOULDBLOCK means another process is writing it */
+        if (strstr(msg, "lock") || strstr(msg, strerror(EWOULDBLOCK)))
+            return fpl_error(NULL, FPL_ERR_IO, "results file %s is in use by another process (it "
+                             "holds the file's lock): let that run finish first (%s)", path, msg);
         return fpl_error(NULL, FPL_ERR_IO, "cannot open results file %s to resume (missing or "
                          "corrupt?): %s", path, msg);
     }

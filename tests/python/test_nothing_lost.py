@@ -214,3 +214,20 @@ def test_numpy_times_are_not_numbers():
         fputlab.integrate(lat8(), np.timedelta64(10))
     with pytest.raises(TypeError, match="t_end"):
         simulate_to_file(lat8(), np.datetime64(10, "s"), "never.h5")
+
+
+def test_a_resume_of_a_file_another_process_writes_says_it_is_in_use(tmp_path):
+    """The second of two concurrent resumes was refused as 'missing or corrupt?'."""
+    import fcntl
+    out, ck = tmp_path / "L.h5", tmp_path / "L.ck"
+    simulate_to_file(lat8(), 10.0, out, checkpoint=ck)
+    before = sha(out)
+    fd = os.open(out, os.O_RDWR)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)      # as libhdf5 does for a file open to write
+        with pytest.raises(OSError, match="in use by another process"):
+            simulate_to_file(lat8(), 20.0, out, checkpoint=ck)
+    finally:
+        os.close(fd)
+    assert sha(out) == before
+    assert simulate_to_file(lat8(), 20.0, out, checkpoint=ck).status == "completed"
