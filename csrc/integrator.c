@@ -268,6 +268,16 @@ int fpl_integrator_advance(fpl_integrator *h, double t_target, double *y_out)
 
 long fpl_integrator_steps(const fpl_integrator *h) { return h ? h->n_steps : -1; }
 
+int fpl_integrator_set_budget(fpl_integrator *h, double seconds)
+{
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    if (!(seconds >= 0.0) || !isfinite(seconds))
+        return fail(h, fpl_error(NULL, FPL_ERR_ARG, "seconds must be finite and >= 0 (got %g)",
+                                 seconds));
+    h->budget = seconds;
+    return FPL_OK;
+}
+
 int fpl_integrator_restore(fpl_integrator *h, long n_steps, double t, const double *y)
 {
     if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");

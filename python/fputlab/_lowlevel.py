@@ -97,6 +97,11 @@ EVENT_KINDS = {"energy": lib.FPL_EVENT_ENERGY, "displacement": lib.FPL_EVENT_MAX
 MAX_EVENTS = len(ffi.new("fpl_event_set *").kind)
 #: informational status: a stopping criterion fired
 EVENT = int(lib.FPL_EVENT)
+PAUSED = int(lib.FPL_PAUSED)
+#: wall-clock seconds an adaptive multistep solve (CVODE) may spend in one C call before it
+#: pauses (fpl_integrator_set_budget): the loops below go on at once, and Python sees Ctrl-C
+#: between the calls
+CALL_BUDGET = 0.2
 #: error statuses of a bad argument (ValueError in Python)
 ARG_ERRORS = (int(lib.FPL_ERR_ARG), int(lib.FPL_ERR_UNKNOWN))
 #: error status: the state became NaN/Inf
@@ -310,6 +315,7 @@ class IntegratorHandle(_Handle):
             lattice.ptr, _cstr(method, "method"), n_dev, options, t0, ptr(y0), out)))
         self._own(out[0])
         self.lattice, self.shape = lattice, (1 + n_dev, 2 * lattice.N)
+        check(lib.fpl_integrator_set_budget(self.ptr, CALL_BUDGET))
 
     @classmethod
     def _view(cls, cdata, lattice: LatticeHandle, n_dev: int, owner) -> "IntegratorHandle":
@@ -361,7 +367,10 @@ class IntegratorHandle(_Handle):
     def advance(self, t: float, out: np.ndarray | None = None) -> int:
         """fpl_integrator_advance to t, the state there into `out` (None: not copied); returns
         the status (FPL_EVENT if a criterion fired)."""
-        return self.check(lib.fpl_integrator_advance(self.ptr, t, _nul(out)))
+        while True:     # FPL_PAUSED: the call's time budget ran out; signals are seen here
+            status = self.check(lib.fpl_integrator_advance(self.ptr, t, _nul(out)))
+            if status != PAUSED:
+                return status
 
     def transform_deviations(self, m: np.ndarray) -> None:
         self.check(lib.fpl_integrator_transform_deviations(self.ptr, ptr(m)))
@@ -370,15 +379,20 @@ class IntegratorHandle(_Handle):
                energies: np.ndarray | None) -> tuple[int, int]:
         """fpl_integrator_sample into the given arrays (None: not wanted); returns (status,
         samples taken). A negative status raises with ``.done`` = the samples taken."""
-        done = ffi.new("int *")
-        status = lib.fpl_integrator_sample(self.ptr, _nul(times), times.size, _nul(states),
-                                           _nul(mode_energies), _nul(energies), done)
-        try:
-            self.check(status)
-        except FputlabError as err:
-            err.done = done[0]
-            raise
-        return status, done[0]
+        done, total = ffi.new("int *"), 0
+        rest = lambda a: None if a is None else a[total:]
+        while True:     # FPL_PAUSED: the call's time budget ran out; signals are seen here
+            status = lib.fpl_integrator_sample(
+                self.ptr, _nul(rest(times)), times.size - total, _nul(rest(states)),
+                _nul(rest(mode_energies)), _nul(rest(energies)), done)
+            total += done[0]
+            try:
+                self.check(status)
+            except FputlabError as err:
+                err.done = total
+                raise
+            if status != PAUSED:
+                return status, total
 
     def event(self) -> tuple[int, float] | None:
         """(criterion index, time) if a stopping criterion stopped the integrator."""
