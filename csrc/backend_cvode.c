@@ -98,6 +98,7 @@ static int cv_restart(fpl_integrator *h)
     fpl_sun_data *d = h->data;
     d->base_steps = h->n_steps;
     d->base_rhs = h->n_force;
+    h->paused_steps = 0;
     memcpy(N_VGetArrayPointer(d->y), h->y, sizeof(double) * (size_t)h->dim);
     int flag = CVodeReInit(d->mem, h->t, d->y);
     return flag == CV_SUCCESS ? FPL_OK : fpl_sun_setup_failed(h, "CVodeReInit", flag);
@@ -145,16 +146,22 @@ static int cv_advance(fpl_integrator *h, double t_target, double *y_out)
          * read after each. These are the steps CV_NORMAL takes (both modes stop at the stop
          * time t_target the same way), so a run that pauses and goes on is the same run. */
         const double start = now_seconds();
-        long taken = 0;
+        long taken = h->paused_steps;
         do {
             flag = CVode(d->mem, t_target, d->y, &tret, CV_ONE_STEP);
             taken++;
         } while (flag == CV_SUCCESS && tret < t_target && taken < h->opt.max_steps &&
                  now_seconds() - start < h->budget);
         if (flag == CV_SUCCESS && tret < t_target) {
-            if (taken >= h->opt.max_steps) flag = CV_TOO_MUCH_WORK;   /* as CV_NORMAL would */
-            else paused = 1;
+            if (taken >= h->opt.max_steps) {   /* as CV_NORMAL would, with its message */
+                flag = CV_TOO_MUCH_WORK;
+                snprintf(d->err.msg, sizeof d->err.msg, "At t = %.17g, mxstep steps taken before "
+                         "reaching tout.", tret);
+            } else {
+                paused = 1;
+            }
         }
+        h->paused_steps = paused ? taken : 0;
     } else if (flag == CV_SUCCESS) {
         flag = CVode(d->mem, t_target, d->y, &tret, CV_NORMAL);
     }

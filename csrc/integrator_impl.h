@@ -48,6 +48,8 @@ struct fpl_integrator {
     int stopped;                              /* an event fired: h->y, h->t are the event */
     int event_index;                          /* which criterion (index into sys->events) */
     double budget;                            /* seconds per call, 0 = none (set_budget) */
+    long paused_steps;                        /* internal steps of the paused calls towards the
+                                                 current target (max_steps counts them all) */
     char errmsg[FPL_ERRMSG_LEN];
 };
 

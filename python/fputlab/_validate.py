@@ -51,6 +51,22 @@ def _positive_real(value, name: str) -> float:
     return x
 
 
+def _size(value, name: str = "N") -> int:
+    """A lattice size: an integer >= 2 (the smallest chain with two modes)."""
+    value = _int(value, name)
+    if value < 2:
+        raise ValueError(f"{name} must be >= 2 (got {value})")
+    return value
+
+
+def _seed(value, name: str = "seed") -> int:
+    """A random seed: an integer in [0, 2**64) (the C seeds are unsigned 64-bit)."""
+    value = _int(value, name, C_U64)
+    if value < 0:
+        raise ValueError(f"{name} must be >= 0 (got {value})")
+    return value
+
+
 def _int(value, name: str, bounds: tuple = C_INT) -> int:
     """An integer parameter, checked against the range of the C type it goes to (int by
     default): out of range is a ValueError naming it, not cffi's anonymous OverflowError."""

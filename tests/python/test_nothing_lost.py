@@ -231,3 +231,68 @@ def test_a_resume_of_a_file_another_process_writes_says_it_is_in_use(tmp_path):
         os.close(fd)
     assert sha(out) == before
     assert simulate_to_file(lat8(), 20.0, out, checkpoint=ck).status == "completed"
+
+
+# ---- integrate and files: refused before anything runs ----------------------------------------
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: fputlab.integrate(lat8(), 10.0, dt=20.0), "dt = 20 is longer than the whole run"),
+    (lambda: fputlab.integrate(lat8(), 10.0, dt=1e-13), "1e\\+14 steps"),
+    (lambda: fputlab.integrate(lat8(), 10.0, chunk=0), "chunk must be >= 1"),
+    (lambda: fputlab.integrate(lat8(), 10.0, chunk=-1), "chunk must be >= 1"),
+    (lambda: fputlab.integrate(lat8(), 10.0, stop_on=[("energy", 1.0, 3)]), "without a third"),
+    (lambda: fputlab.integrate(lat8(), 10.0, stop_on=[("mode_energy", 1.0)]), "threshold, k"),
+    (lambda: fputlab.blowup.blowup_time(lat8(), 10.0, dt=0), "dt must be finite and > 0"),
+    (lambda: simulate_to_file(lat8(), 10.0, "never.h5", dt=0), "dt must be finite and > 0"),
+    (lambda: simulate_to_file(lat8(), 10.0, "never.h5", dt=20.0), "not one step fits"),
+    (lambda: fputlab.Integrator(lat8(), np.ones((0, 16))), "y0 has shape \\(0, 16\\)"),
+    (lambda: chaos_to_file(lat8(), 10.0, "never.h5", seed=-1), "seed must be >= 0"),
+    (lambda: chaos_to_file(lat8(), 10.0, "never.h5", seed=2**64), "seed = "),
+])
+def test_nonsense_is_refused_with_the_parameter_named(call, match, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match=match):
+        call()
+    assert os.listdir() == []
+
+
+def test_chunk_must_be_an_integer():
+    with pytest.raises(TypeError, match="chunk must be an integer"):
+        fputlab.integrate(lat8(), 10.0, chunk=1.5)
+
+
+def test_a_run_of_one_step_still_runs():
+    run = fputlab.integrate(lat8(), 10.0, dt=10.0)
+    assert run.completed and run.t.tolist() == [0.0, 10.0]
+
+
+# ---- reduction helpers --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("call, match", [
+    (lambda R: R.envelope_run(1.0, 1.0, 1.0, N=1), "N must be >= 2"),
+    (lambda R: R.ReducedSystem(1.0, 1.0, N=1), "N must be >= 2"),
+    (lambda R: R.ReducedSystem(1.0, 1.0, N=-9), "N must be >= 2"),
+    (lambda R: R.ReducedSystem(1.0, 1.0, r1sq=-1), "r1sq must be > 0"),
+    (lambda R: R.classify(1.0, 1.0, r1sq=-1), "r1sq must be > 0"),
+    (lambda R: R.equilibrium_map(1.0, 1.0, r1sq=0.0), "r1sq must be > 0"),
+    (lambda R: R.frequencies(0), "N must be >= 2"),
+    (lambda R: R.frequencies(-1), "N must be >= 2"),
+    (lambda R: R.detuning(-1), "N must be >= 2"),
+    (lambda R: R.critical_tolerance(tau=[0]), "at least 3 distinct"),
+    (lambda R: R.critical_tolerance(tau=[0, 1]), "at least 3 distinct"),
+    (lambda R: R.critical_tolerance(tau=[0, 1, 1]), "at least 3 distinct"),
+])
+def test_reduction_helpers_refuse_nonsense(call, match):
+    import fputlab.reduction as R
+    with pytest.raises(ValueError, match=match):
+        call(R)
+
+
+def test_realisations_are_checked_against_memory(monkeypatch):
+    import fputlab._arrays
+    import fputlab.reduction as R
+    monkeypatch.setattr(fputlab._arrays, "available_memory", lambda: 1e9)
+    with pytest.raises(MemoryError, match="realisations"):
+        R.realisation_quadratics(R=10**8)
+    with pytest.raises(TypeError, match="R must be an integer"):
+        R.realisation_quadratics(R=1e8)
