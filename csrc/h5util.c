@@ -99,14 +99,24 @@ int fpl_h5_set_u64(hid_t obj, const char *name, unsigned long long value)
     return set_attr(obj, name, H5T_NATIVE_ULLONG, &value);
 }
 
-int fpl_h5_set_string(hid_t obj, const char *name, const char *value)
+/* Variable-length UTF-8 strings: what h5py, netCDF-4 and xarray read as str (a fixed-length
+ * attribute comes back as bytes, b'homogeneous'). */
+static hid_t vl_utf8(void)
 {
     hid_t type = H5Tcopy(H5T_C_S1);
+    if (type >= 0 && (H5Tset_size(type, H5T_VARIABLE) < 0 || H5Tset_cset(type, H5T_CSET_UTF8) < 0)) {
+        H5Tclose(type);
+        type = -1;
+    }
+    return type;
+}
+
+int fpl_h5_set_string(hid_t obj, const char *name, const char *value)
+{
+    hid_t type = vl_utf8();
     if (type < 0) return -1;
-    size_t n = strlen(value);
-    int ok = H5Tset_size(type, n ? n : 1) >= 0 && H5Tset_strpad(type, H5T_STR_NULLPAD) >= 0 &&
-             H5Tset_cset(type, H5T_CSET_UTF8) >= 0 &&
-             set_attr(obj, name, type, n ? value : "") == 0;
+    const char *v = value ? value : "";
+    int ok = set_attr(obj, name, type, &v) == 0;
     H5Tclose(type);
     return ok ? 0 : -1;
 }
@@ -149,7 +159,20 @@ int fpl_h5_get_string(hid_t obj, const char *name, char *buf, size_t len)
     if (attr < 0) return -1;
     hid_t ftype = H5Aget_type(attr);
     int ok = 0;
-    if (ftype >= 0 && H5Tget_class(ftype) == H5T_STRING && !H5Tis_variable_str(ftype)) {
+    hid_t space = H5Aget_space(attr);
+    int scalar = space >= 0 && H5Sget_simple_extent_npoints(space) == 1;
+    if (space >= 0) H5Sclose(space);
+    if (scalar && ftype >= 0 && H5Tget_class(ftype) == H5T_STRING && H5Tis_variable_str(ftype) > 0) {
+        hid_t mtype = vl_utf8();
+        char *s = NULL;
+        if (mtype >= 0 && H5Aread(attr, mtype, &s) >= 0 && s) {
+            ok = strlen(s) < len;
+            if (ok) snprintf(buf, len, "%s", s);
+        }
+        if (s) H5free_memory(s);
+        if (mtype >= 0) H5Tclose(mtype);
+    } else if (scalar && ftype >= 0 && H5Tget_class(ftype) == H5T_STRING) {
+        /* fixed length: the files of fputlab <= 0.1 */
         size_t n = H5Tget_size(ftype);
         if (n < len) {
             hid_t mtype = H5Tcopy(ftype);
@@ -219,9 +242,11 @@ int fpl_h5_write_description(hid_t file, const char *schema, const fpl_lattice *
     bad |= fpl_h5_set_double(file, "atol", info->atol);
     bad |= fpl_h5_set_double(file, "t0", info->t0);
     bad |= fpl_h5_set_long(file, "n_dev", info->n_dev);
-    bad |= fpl_h5_set_double(file, "tau", info->tau);
-    bad |= fpl_h5_set_long(file, "seed", info->seed);
-    bad |= fpl_h5_set_string(file, "disorder", str_or(info->disorder, ""));
+    /* the disorder only where there is one: a homogeneous chain has no tau, seed or kind */
+    if (isfinite(info->tau)) bad |= fpl_h5_set_double(file, "tau", info->tau);
+    if (info->seed >= 0) bad |= fpl_h5_set_long(file, "seed", info->seed);
+    if (info->disorder && *info->disorder)
+        bad |= fpl_h5_set_string(file, "disorder", info->disorder);
     if (H5Lexists(file, "v", H5P_DEFAULT) <= 0)
         bad |= fpl_h5_write_vector(file, "v", lat->v, (size_t)lat->n);
     return bad ? -1 : 0;

@@ -37,6 +37,8 @@ struct fpl_results {
     fpl_work *work;            /* the mode transform's scratch for appended rows */
     long dim;                  /* 2N(1 + n_dev) */
     int store_states, chunk;
+    int root;                  /* the orbit series t, energy, mode_energies exist (not in a chaos
+                                  file, whose samples are all in /chaos) */
     series s[S_COUNT];         /* S_STATES.d < 0 unless store_states */
     series c[C_COUNT];         /* /chaos, created on the first chaos sample */
     double *buf[S_COUNT];      /* chunk rows each */
@@ -49,6 +51,7 @@ struct fpl_results {
 
 static int ensure_chaos(fpl_results *r);
 static int label_dimensions(fpl_results *r, int chaos);
+static int describe_variables(hid_t file);
 static const char *s_names[S_COUNT] = {"t", "energy", "mode_energies", "states"};
 static const char *c_names[C_COUNT] = {"chaos/t", "chaos/mle", "chaos/sali", "chaos/gali"};
 
@@ -150,6 +153,7 @@ static int new_handle(const fpl_lattice *lat, const fpl_run_info *info, fpl_resu
     r->lat = lat;
     r->dim = 2L * lat->n * (1 + info->n_dev);
     r->store_states = info->store_states != 0;
+    r->root = !(info->kind && strcmp(info->kind, "chaos") == 0) || r->store_states;
     r->chunk = info->chunk_rows ? info->chunk_rows : 256;
     long rows_fit = MAX_CHUNK_BYTES / (8L * (r->store_states ? r->dim : lat->n));
     if (rows_fit < 1) rows_fit = 1;
@@ -189,12 +193,13 @@ static int create_in(fpl_results *r, const char *path, const fpl_run_info *info)
         fpl_h5_set_string(r->file, "status", "running") ||
         fpl_h5_set_string(r->file, "message", ""))
         return h5_fail(r, "writing the run description");
-    for (int i = 0; i < S_COUNT; i++) {
+    for (int i = 0; i < S_COUNT && r->root; i++) {
         if (i == S_STATES && !r->store_states) continue;
         if ((r->s[i].d = create_series(r->file, s_names[i], r->s[i].cols, r->chunk)) < 0)
             return h5_fail(r, "creating the datasets");
     }
     if (label_dimensions(r, 0)) return h5_fail(r, "labelling the dimensions");
+    if (describe_variables(r->file)) return h5_fail(r, "writing the variables' units");
     return H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "flush") : FPL_OK;
 }
 
@@ -408,7 +413,7 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
     H5Eclear2(H5E_DEFAULT);
     int finished = !fpl_h5_get_string(r->file, "status", status, sizeof status) &&
                    strcmp(status, "running") != 0;
-    for (int i = 0; i < S_COUNT; i++) {
+    for (int i = 0; i < S_COUNT && r->root; i++) {
         if (i == S_STATES && !r->store_states) continue;
         if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
             (r->s[i].d = H5Dopen2(r->file, s_names[i], H5P_DEFAULT)) < 0) {
@@ -630,6 +635,38 @@ long fpl_results_count(const fpl_results *r) { return r ? r->s[S_T].rows + r->nb
  * (1..2N(1+n_dev), for states) are small index datasets made scales of the column axes. In
  * /chaos, chaos/t is the scale of mle, sali, gali. Called once, when the datasets are created
  * (a resumed file has them already). Returns 0, or -1 with HDF5's message in r->h5msg. */
+/* CF-style `long_name` and `units` on every variable there is (xarray.open_dataset shows them,
+ * ncdump lists them). fputlab's quantities are in the lattice's dimensionless units: "1". */
+static const char *const var_text[][2] = {
+    {"t", "time"},
+    {"energy", "total energy"},
+    {"mode_energies", "normal-mode energy E_k"},
+    {"states", "state: x and p of the orbit, then of each deviation vector"},
+    {"v", "variability v_j"},
+    {"mode", "normal-mode number k"},
+    {"site", "particle index j"},
+    {"component", "state component"},
+    {"chaos/t", "time"},
+    {"chaos/mle", "finite-time maximum Lyapunov exponent"},
+    {"chaos/sali", "smaller alignment index SALI"},
+    {"chaos/gali", "generalised alignment index GALI"},
+};
+
+static int describe_variables(hid_t file)
+{
+    int bad = 0;
+    for (size_t i = 0; i < sizeof var_text / sizeof *var_text && !bad; i++) {
+        const char *name = var_text[i][0];
+        if (strchr(name, '/') && H5Lexists(file, "chaos", H5P_DEFAULT) <= 0) continue;
+        if (H5Lexists(file, name, H5P_DEFAULT) <= 0) continue;
+        hid_t d = H5Dopen2(file, name, H5P_DEFAULT);
+        bad = d < 0 || fpl_h5_set_string(d, "long_name", var_text[i][1]) ||
+              fpl_h5_set_string(d, "units", "1");
+        if (d >= 0) H5Dclose(d);
+    }
+    return bad ? -1 : 0;
+}
+
 static hid_t index_scale(hid_t loc, const char *name, long n)
 {
     hsize_t dims[1] = {(hsize_t)n};
@@ -657,17 +694,18 @@ static int label_dimensions(fpl_results *r, int chaos)
         for (int i = C_T + 1; i < C_COUNT && !bad; i++)
             bad |= H5DSattach_scale(r->c[i].d, r->c[C_T].d, 0) < 0;
     } else {
-        hid_t mode = index_scale(r->file, "mode", r->lat->n);
+        hid_t mode = r->root ? index_scale(r->file, "mode", r->lat->n) : 0;
         hid_t site = index_scale(r->file, "site", r->lat->n);
         hid_t comp = r->store_states ? index_scale(r->file, "component", r->dim) : 0;
         hid_t v = H5Dopen2(r->file, "v", H5P_DEFAULT);
-        bad = mode < 0 || site < 0 || comp < 0 || v < 0 || H5DSset_scale(r->s[S_T].d, "t") < 0;
-        for (int i = S_T + 1; i < S_COUNT && !bad; i++)
+        bad = mode < 0 || site < 0 || comp < 0 || v < 0 ||
+              (r->root && H5DSset_scale(r->s[S_T].d, "t") < 0);
+        for (int i = S_T + 1; i < S_COUNT && !bad && r->root; i++)
             if (r->s[i].d >= 0) bad |= H5DSattach_scale(r->s[i].d, r->s[S_T].d, 0) < 0;
-        if (!bad) bad |= H5DSattach_scale(r->s[S_MODE_ENERGIES].d, mode, 1) < 0;
+        if (!bad && r->root) bad |= H5DSattach_scale(r->s[S_MODE_ENERGIES].d, mode, 1) < 0;
         if (!bad && r->store_states) bad |= H5DSattach_scale(r->s[S_STATES].d, comp, 1) < 0;
         if (!bad) bad |= H5DSattach_scale(v, site, 0) < 0;
-        if (mode >= 0) H5Dclose(mode);
+        if (mode > 0) H5Dclose(mode);
         if (site >= 0) H5Dclose(site);
         if (comp > 0) H5Dclose(comp);
         if (v >= 0) H5Dclose(v);
@@ -690,7 +728,7 @@ static int ensure_chaos(fpl_results *r)
         }
         if (r->c[i].d < 0) return -1;
     }
-    return created ? label_dimensions(r, 1) : 0;
+    return created ? (label_dimensions(r, 1) || describe_variables(r->file)) : 0;
 }
 
 /* Write the buffers: only full ones (whole chunks), unless `all` (closing the file). */
@@ -727,6 +765,9 @@ int fpl_results_append(fpl_results *r, double t, const double *y)
 {
     if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
     if (!y) return fail(r, fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer"));
+    if (!r->root)
+        return fail(r, fpl_error(NULL, FPL_ERR_ARG, "this results file (kind \"chaos\") holds no "
+                                 "orbit samples: write them to a file of kind \"simulate\""));
     if (!isfinite(t)) return fail(r, fpl_error(NULL, FPL_ERR_ARG, "t must be finite (got %g)", t));
     const long n = r->lat->n;
     long bad;

@@ -29,13 +29,15 @@ def _RunInfo(lattice: Lattice, kind: str, method: str, dt: float, rtol: float, a
     # as the checkpoint records them: the options the method actually uses, NaN for the others
     adaptive = method_info(method)["adaptive"]
     nan = float("nan")
+    # a homogeneous chain has no disorder: no tau, seed or kind in its files (NaN, -1 and ""
+    # are "not written")
+    ordered = lattice.model == "homogeneous"
     return ll.RunInfo(
         kind=kind, method=method, dt=nan if adaptive else dt,
         rtol=rtol if adaptive else nan, atol=atol if adaptive else nan, t0=t0, n_dev=n_dev,
-        tau=float("nan") if lattice.tau is None else lattice.tau,
-        seed=-1 if lattice.seed is None else int(lattice.seed),
-        disorder=lattice.disorder or ("user" if lattice.tau is None and
-                                      lattice.model != "homogeneous" else ""),
+        tau=nan if ordered or lattice.tau is None else lattice.tau,
+        seed=-1 if ordered or lattice.seed is None else int(lattice.seed),
+        disorder="" if ordered else (lattice.disorder if lattice.tau is not None else "user"),
         store_states=int(bool(store_states)), chunk_rows=chunk_rows)
 
 
@@ -428,9 +430,13 @@ def load(path, *, as_xarray: bool = False):
                 raise ValueError(f"{path} is not an fputlab results file "
                                  f"(schema {attrs.get('schema')!r})")
             v = _dataset(f, "v", path, 1)
-            t = _dataset(f, "t", path, 1)
-            energy = _dataset(f, "energy", path, 1, rows=t.size)
-            mode_energies = _dataset(f, "mode_energies", path, 2, cols=v.size, rows=t.size)
+            if attrs.get("kind") == "chaos" and "t" not in f:
+                # a chaos file keeps every sample in /chaos: no empty orbit series at the root
+                t, energy, mode_energies = np.empty(0), np.empty(0), np.empty((0, v.size))
+            else:
+                t = _dataset(f, "t", path, 1)
+                energy = _dataset(f, "energy", path, 1, rows=t.size)
+                mode_energies = _dataset(f, "mode_energies", path, 2, cols=v.size, rows=t.size)
             states = _dataset(f, "states", path, 2, rows=t.size, required=False)
             if states is not None and states.shape[1] % (2 * v.size):
                 raise ValueError(f"{path}: dataset 'states' has {states.shape[1]} columns, not a "
