@@ -7,8 +7,10 @@
  * Every CVODE call of the library lives in this file (the part shared with ARKODE: data,
  * failures, classification of a return, is in sundials_common.c). Each advance sets the stop
  * time to the target, so the state lands on t_target. */
+#define _POSIX_C_SOURCE 200809L   /* clock_gettime */
 #include <float.h>
 #include <math.h>
+#include <time.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -96,6 +98,7 @@ static int cv_restart(fpl_integrator *h)
     fpl_sun_data *d = h->data;
     d->base_steps = h->n_steps;
     d->base_rhs = h->n_force;
+    h->paused_steps = 0;
     memcpy(N_VGetArrayPointer(d->y), h->y, sizeof(double) * (size_t)h->dim);
     int flag = CVodeReInit(d->mem, h->t, d->y);
     return flag == CV_SUCCESS ? FPL_OK : fpl_sun_setup_failed(h, "CVodeReInit", flag);
@@ -114,6 +117,13 @@ static const fpl_sun_ops cv_ops = {
     .restart = cv_restart,
 };
 
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static int cv_advance(fpl_integrator *h, double t_target, double *y_out)
 {
     fpl_sun_data *d = h->data;
@@ -130,12 +140,44 @@ static int cv_advance(fpl_integrator *h, double t_target, double *y_out)
     int flag = CVodeSetMinStep(d->mem, hmin);
     if (flag == CV_SUCCESS) flag = CVodeSetStopTime(d->mem, t_target);
     double tret = h->t;
-    if (flag == CV_SUCCESS) flag = CVode(d->mem, t_target, d->y, &tret, CV_NORMAL);
+    int paused = 0;
+    if (flag == CV_SUCCESS && h->budget > 0.0) {
+        /* A time budget (fpl_integrator_set_budget): one internal step per CVode call, the clock
+         * read after each. These are the steps CV_NORMAL takes (both modes stop at the stop
+         * time t_target the same way), so a run that pauses and goes on is the same run. */
+        const double start = now_seconds();
+        long taken = h->paused_steps;
+        do {
+            flag = CVode(d->mem, t_target, d->y, &tret, CV_ONE_STEP);
+            taken++;
+        } while (flag == CV_SUCCESS && tret < t_target && taken < h->opt.max_steps &&
+                 now_seconds() - start < h->budget);
+        if (flag == CV_SUCCESS && tret < t_target) {
+            if (taken >= h->opt.max_steps) {   /* as CV_NORMAL would, with its message */
+                flag = CV_TOO_MUCH_WORK;
+                snprintf(d->err.msg, sizeof d->err.msg, "At t = %.17g, mxstep steps taken before "
+                         "reaching tout.", tret);
+            } else {
+                paused = 1;
+            }
+        }
+        h->paused_steps = paused ? taken : 0;
+    } else if (flag == CV_SUCCESS) {
+        flag = CVode(d->mem, t_target, d->y, &tret, CV_NORMAL);
+    }
     long nst = 0, nfe = 0;
     CVodeGetNumSteps(d->mem, &nst);
     CVodeGetNumRhsEvals(d->mem, &nfe);
     h->n_steps = d->base_steps + nst;
     h->n_force = d->base_rhs + nfe;
+    if (paused && fpl_is_finite_array(N_VGetArrayPointer(d->y), h->dim, NULL)) {
+        const size_t bytes = sizeof(double) * (size_t)h->dim;
+        memcpy(h->y, N_VGetArrayPointer(d->y), bytes);
+        memcpy(y_out, h->y, bytes);
+        h->t = tret;
+        return fpl_error(NULL, FPL_PAUSED, "paused at t = %.17g on the way to %.17g (time budget "
+                         "of %g s per call)", tret, t_target, h->budget);
+    }
     return fpl_sun_classify(h, &cv_ops, flag, tret, t_target, y_out);
 }
 

@@ -139,6 +139,8 @@ int fpl_chaos_gali(const double *w, int k, long len, double *gali)
     if (!w || !gali) return fpl_error(NULL, FPL_ERR_ARG, "w/gali: NULL pointer");
     if (k < 1 || len < 1 || k > len)
         return fpl_error(NULL, FPL_ERR_ARG, "need 1 <= k <= len (got k = %d, len = %ld)", k, len);
+    int mst = fpl_check_alloc((size_t)k * (size_t)len, sizeof(double), "GALI's k x len matrix");
+    if (mst) return mst;
     double *q = malloc(sizeof(double) * (size_t)k * (size_t)len);
     if (!q) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (GALI)");
     for (int i = 0; i < k; i++) {
@@ -231,10 +233,14 @@ int fpl_chaos_create(const fpl_lattice *lattice, const char *method,
     int st = check_options(opt, t0);
     if (st) return st;
     const int k = opt->n_dev;
-    const long len = 2L * lattice->n, dim = len * (k + 1);
+    const long len = 2L * lattice->n;
+    long dim;
     if (k > len)
         return fpl_error(NULL, FPL_ERR_ARG, "n_dev = %d exceeds the phase-space dimension 2N = %ld",
                          k, len);
+    if ((st = fpl_state_length(lattice->n, k, &dim)) ||
+        (st = fpl_check_alloc((size_t)k * (size_t)k, sizeof(double), "the chaos run's n_dev^2 scales")))
+        return st;
     fpl_chaos *c = calloc(1, sizeof *c);
     if (!c) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (chaos)");
     c->y = malloc(sizeof(double) * (size_t)dim);

@@ -11,6 +11,7 @@
  * renormalisation interval while its few kB of state stay in L1, with the loops over its LANES
  * slots compiled to single vector instructions. Running lanes are kept in the
  * first slots (compaction), so finished lanes cost nothing. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -802,6 +803,9 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
         return fpl_error(NULL, FPL_ERR_ARG, "t_first_sample must be finite and >= 0 (got %g)",
                          o->t_first_sample);
     if (o->n_dev < 1) return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 1 (got %d)", o->n_dev);
+    if (lattices[0]->n > INT_MAX / 2)   /* 2N is an int below */
+        return fpl_error(NULL, FPL_ERR_ARG, "N = %d is too large for a batch (2N must fit an int)",
+                         lattices[0]->n);
     if (o->n_dev > 2 * lattices[0]->n)
         return fpl_error(NULL, FPL_ERR_ARG, "n_dev = %d exceeds the phase-space dimension 2N = %d",
                          o->n_dev, 2 * lattices[0]->n);
@@ -837,7 +841,12 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     int st = check_args(lattices, R, method, io, t0, y0, opt, &scheme, &dt);
     if (st) return st;
     const int n = lattices[0]->n, k = opt->chaos.n_dev, len = 2 * n;
-    long bad;
+    long bad, rows;
+    /* the lanes hold R (rounded up) states of 2N(1 + n_dev), twice (state and backup) */
+    if ((st = fpl_state_length(n, k, &rows)) ||
+        (st = fpl_check_alloc((size_t)rows, 2 * ((size_t)R + LANES) * sizeof(double),
+                              "the batch's R states with their deviation vectors")))
+        return st;
     if (!fpl_is_finite_array(y0, (long)R * len, &bad))
         return fpl_error(NULL, FPL_ERR_ARG, "y0[%ld][%ld] is not finite", bad / len, bad % len);
     if (w0 && !fpl_is_finite_array(w0, (long)R * k * len, &bad))

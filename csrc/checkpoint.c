@@ -252,9 +252,9 @@ int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl
     hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
     hid_t f = fcpl >= 0 && H5Pset_userblock(fcpl, USERBLOCK) >= 0
                   ? H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT) : -1;
+    if (f < 0) fpl_h5_error_text(msg, sizeof msg);   /* before H5Pclose clears the stack */
     if (fcpl >= 0) H5Pclose(fcpl);
     if (f < 0) {
-        fpl_h5_error_text(msg, sizeof msg);
         st = fpl_error(NULL, FPL_ERR_IO, "cannot create checkpoint %s: %s", tmp, msg);
         goto out;
     }
@@ -290,13 +290,15 @@ int fpl_checkpoint_write(const char *path_in, const fpl_integrator *h, const fpl
     }
     char dir[4096];
     folder_of(path, dir, sizeof dir);
+    errno = 0;
     if (stamp(tmp) != 0) {
-        st = fpl_error(NULL, FPL_ERR_IO, "writing checkpoint %s failed: cannot stamp its checksum",
-                       tmp);
+        st = fpl_error(NULL, FPL_ERR_IO, "writing checkpoint %s failed: cannot stamp its checksum%s%s",
+                       tmp, errno ? ": " : "", errno ? strerror(errno) : "");
         goto out;
     }
     if (fsync_path(tmp, O_RDONLY) != 0 || rename(tmp, path) != 0) {
-        st = fpl_error(NULL, FPL_ERR_IO, "cannot move checkpoint %s into place as %s", tmp, path);
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot move checkpoint %s into place as %s: %s", tmp, path,
+                       strerror(errno));
         goto out;
     }
     fsync_path(dir, O_RDONLY); /* best effort: some file systems refuse fsync on folders */

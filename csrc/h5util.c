@@ -5,8 +5,27 @@
 #include <stdio.h>
 #include <string.h>
 
+/* libhdf5 (1.10) closes every file still open at exit, and a file whose flush failed (a full
+ * disk) stays registered after H5Fclose fails: at exit the library loops on it ("infinite loop
+ * closing library") or crashes in H5F__close_cb, turning a clean "No space left on device"
+ * into a SIGSEGV. fputlab's files never need that exit-time close (every chunk, status and
+ * checkpoint is flushed when written; a process ending with a file open is the same as a kill,
+ * which the formats are built to survive), so the library's exit handler is not registered.
+ * H5dont_atexit only works before HDF5's first use in the process, so it is called before each
+ * of fputlab's HDF5 calls: if an embedder initialised HDF5 first, it fails harmlessly and their
+ * choice stands. */
+static void no_exit_close(void)
+{
+    static int done;
+    if (!done) {
+        done = 1;
+        H5dont_atexit();
+    }
+}
+
 void fpl_h5_quiet_begin(fpl_h5_quiet *q)
 {
+    no_exit_close();
     q->func = NULL;
     q->data = NULL;
     H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data);
@@ -15,23 +34,40 @@ void fpl_h5_quiet_begin(fpl_h5_quiet *q)
 
 void fpl_h5_quiet_end(const fpl_h5_quiet *q) { H5Eset_auto2(H5E_DEFAULT, q->func, q->data); }
 
-typedef struct { char *buf; size_t len; } walk_ctx;
+typedef struct { char *buf; size_t len; char os[128]; } walk_ctx;
 
-/* The stack is walked from the innermost (most specific) entry outwards: keep the first. */
+/* The stack is walked from the innermost (most specific) entry outwards: keep the first, and
+ * the operating system's reason wherever an entry carries one (HDF5's file drivers write
+ * "errno = 28, error message = 'No space left on device'" into their entry, which is often
+ * not the innermost one: a failed flush reports "unable to flush file's cached information"). */
 static herr_t walk_first(unsigned n, const H5E_error2_t *err, void *ctx_)
 {
     walk_ctx *ctx = ctx_;
     if (n == 0 && err && err->desc)
         snprintf(ctx->buf, ctx->len, "%s (in %s)", err->desc, err->func_name ? err->func_name : "?");
+    static const char key[] = "error message = '";
+    const char *at = err && err->desc && !ctx->os[0] ? strstr(err->desc, key) : NULL;
+    if (at) {
+        at += sizeof key - 1;
+        const char *end = strchr(at, '\'');
+        int n_os = end ? (int)(end - at) : (int)strlen(at);
+        snprintf(ctx->os, sizeof ctx->os, "%.*s", n_os, at);
+    }
     return 0;
 }
 
 const char *fpl_h5_error_text(char *buf, size_t len)
 {
-    walk_ctx ctx = {buf, len};
+    walk_ctx ctx = {buf, len, {0}};
     if (len) buf[0] = '\0';
     H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_first, &ctx);
     H5Eclear2(H5E_DEFAULT);
+    /* the OS reason first ("No space left on device: ..."), unless the message already says it */
+    if (ctx.os[0] && len && !strstr(buf, ctx.os)) {
+        char inner[512];
+        snprintf(inner, sizeof inner, "%s", buf);
+        snprintf(buf, len, "%s: %s", ctx.os, inner);
+    }
     return buf;
 }
 
@@ -63,14 +99,24 @@ int fpl_h5_set_u64(hid_t obj, const char *name, unsigned long long value)
     return set_attr(obj, name, H5T_NATIVE_ULLONG, &value);
 }
 
-int fpl_h5_set_string(hid_t obj, const char *name, const char *value)
+/* Variable-length UTF-8 strings: what h5py, netCDF-4 and xarray read as str (a fixed-length
+ * attribute comes back as bytes, b'homogeneous'). */
+static hid_t vl_utf8(void)
 {
     hid_t type = H5Tcopy(H5T_C_S1);
+    if (type >= 0 && (H5Tset_size(type, H5T_VARIABLE) < 0 || H5Tset_cset(type, H5T_CSET_UTF8) < 0)) {
+        H5Tclose(type);
+        type = -1;
+    }
+    return type;
+}
+
+int fpl_h5_set_string(hid_t obj, const char *name, const char *value)
+{
+    hid_t type = vl_utf8();
     if (type < 0) return -1;
-    size_t n = strlen(value);
-    int ok = H5Tset_size(type, n ? n : 1) >= 0 && H5Tset_strpad(type, H5T_STR_NULLPAD) >= 0 &&
-             H5Tset_cset(type, H5T_CSET_UTF8) >= 0 &&
-             set_attr(obj, name, type, n ? value : "") == 0;
+    const char *v = value ? value : "";
+    int ok = set_attr(obj, name, type, &v) == 0;
     H5Tclose(type);
     return ok ? 0 : -1;
 }
@@ -113,7 +159,20 @@ int fpl_h5_get_string(hid_t obj, const char *name, char *buf, size_t len)
     if (attr < 0) return -1;
     hid_t ftype = H5Aget_type(attr);
     int ok = 0;
-    if (ftype >= 0 && H5Tget_class(ftype) == H5T_STRING && !H5Tis_variable_str(ftype)) {
+    hid_t space = H5Aget_space(attr);
+    int scalar = space >= 0 && H5Sget_simple_extent_npoints(space) == 1;
+    if (space >= 0) H5Sclose(space);
+    if (scalar && ftype >= 0 && H5Tget_class(ftype) == H5T_STRING && H5Tis_variable_str(ftype) > 0) {
+        hid_t mtype = vl_utf8();
+        char *s = NULL;
+        if (mtype >= 0 && H5Aread(attr, mtype, &s) >= 0 && s) {
+            ok = strlen(s) < len;
+            if (ok) snprintf(buf, len, "%s", s);
+        }
+        if (s) H5free_memory(s);
+        if (mtype >= 0) H5Tclose(mtype);
+    } else if (scalar && ftype >= 0 && H5Tget_class(ftype) == H5T_STRING) {
+        /* fixed length: the files of fputlab <= 0.1 */
         size_t n = H5Tget_size(ftype);
         if (n < len) {
             hid_t mtype = H5Tcopy(ftype);
@@ -185,9 +244,11 @@ int fpl_h5_write_description(hid_t file, const char *schema, const fpl_lattice *
     bad |= fpl_h5_set_double(file, "atol", info->atol);
     bad |= fpl_h5_set_double(file, "t0", info->t0);
     bad |= fpl_h5_set_long(file, "n_dev", info->n_dev);
-    bad |= fpl_h5_set_double(file, "tau", info->tau);
-    bad |= fpl_h5_set_long(file, "seed", info->seed);
-    bad |= fpl_h5_set_string(file, "disorder", str_or(info->disorder, ""));
+    /* the disorder only where there is one: a homogeneous chain has no tau, seed or kind */
+    if (isfinite(info->tau)) bad |= fpl_h5_set_double(file, "tau", info->tau);
+    if (info->seed >= 0) bad |= fpl_h5_set_long(file, "seed", info->seed);
+    if (info->disorder && *info->disorder)
+        bad |= fpl_h5_set_string(file, "disorder", info->disorder);
     if (H5Lexists(file, "v", H5P_DEFAULT) <= 0)
         bad |= fpl_h5_write_vector(file, "v", lat->v, (size_t)lat->n);
     return bad ? -1 : 0;

@@ -118,7 +118,9 @@ int fpl_integrator_create(const fpl_lattice *lattice, const char *method, int n_
     if (!method) return fpl_error(NULL, FPL_ERR_ARG, "method: NULL name");
     const fpl_method *m = find_method(method);
     if (!m) return unknown_method(method);
-    if (n_dev < 0) return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", n_dev);
+    long dim;
+    int sst = fpl_state_length(fpl_lattice_size(lattice), n_dev, &dim);
+    if (sst) return sst;
     if (!isfinite(t0)) return fpl_error(NULL, FPL_ERR_ARG, "t0 must be finite (got %g)", t0);
     if (!y0) return fpl_error(NULL, FPL_ERR_ARG, "y0: NULL pointer");
     fpl_integrator_options o;
@@ -143,7 +145,7 @@ int fpl_integrator_create(const fpl_lattice *lattice, const char *method, int n_
                          "methods (sprk-*), not to '%s'", m->name);
     o.compensated_sums = o.compensated_sums != 0;
     if (o.max_steps == 0) o.max_steps = 100000000L;
-    long dim = 2L * fpl_lattice_size(lattice) * (n_dev + 1), bad = -1;
+    long bad = -1;
     if (!fpl_is_finite_array(y0, dim, &bad))
         return fpl_error(NULL, FPL_ERR_ARG, "y0[%ld] is not finite (%g)", bad, y0[bad]);
 
@@ -265,6 +267,16 @@ int fpl_integrator_advance(fpl_integrator *h, double t_target, double *y_out)
 }
 
 long fpl_integrator_steps(const fpl_integrator *h) { return h ? h->n_steps : -1; }
+
+int fpl_integrator_set_budget(fpl_integrator *h, double seconds)
+{
+    if (!h) return fpl_error(NULL, FPL_ERR_ARG, "integrator: NULL handle");
+    if (!(seconds >= 0.0) || !isfinite(seconds))
+        return fail(h, fpl_error(NULL, FPL_ERR_ARG, "seconds must be finite and >= 0 (got %g)",
+                                 seconds));
+    h->budget = seconds;
+    return FPL_OK;
+}
 
 int fpl_integrator_restore(fpl_integrator *h, long n_steps, double t, const double *y)
 {

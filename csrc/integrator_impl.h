@@ -47,6 +47,9 @@ struct fpl_integrator {
     void *data;                               /* back-end private */
     int stopped;                              /* an event fired: h->y, h->t are the event */
     int event_index;                          /* which criterion (index into sys->events) */
+    double budget;                            /* seconds per call, 0 = none (set_budget) */
+    long paused_steps;                        /* internal steps of the paused calls towards the
+                                                 current target (max_steps counts them all) */
     char errmsg[FPL_ERRMSG_LEN];
 };
 

@@ -25,6 +25,20 @@
 int fpl_error(char *handle_msg, int status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+/* Checked sizes. Every count that sizes a buffer (2N(1 + n_dev), dim^2, chunk x columns, ...)
+ * is a product of caller-supplied integers: these refuse one that overflows or that could not
+ * be held in this machine's physical memory, with a status and a message, instead of wrapping
+ * round (a too-small buffer, then a crash) or letting a lazily committed allocation stall the
+ * machine until the OOM killer ends the process. */
+/* a * b into *out; -1 (and *out untouched) on overflow. */
+int fpl_size_mul(size_t a, size_t b, size_t *out);
+/* FPL_OK if count elements of size bytes (both as given) fit in physical memory, else
+ * FPL_ERR_NOMEM naming `what` and the bytes. */
+int fpl_check_alloc(size_t count, size_t size, const char *what);
+/* The state length 2N(1 + n_dev) of a lattice of n sites: FPL_ERR_ARG for n_dev < 0, or if the
+ * length overflows a long or the state could not fit in memory (FPL_ERR_NOMEM). */
+int fpl_state_length(int n, int n_dev, long *len);
+
 /* Scratch of the kernels for one lattice size, owned by whoever runs (an integrator, a chaos or
  * batch handle, a Galerkin handle, an fpl_system). The lattice itself is read-only physics, so
  * one lattice can serve several runs and threads, each with its own workspace. */

@@ -67,6 +67,10 @@ int fpl_lattice_create_ex(int n, double alpha, double beta, int model, const dou
                 return fpl_error(NULL, FPL_ERR_ARG, "v[%d] = %g: the Toda model is homogeneous "
                                  "(v = 1; disorder breaks its integrability)", j, v[j]);
     }
+    /* the five coefficient arrays, and the state and scratch any use of the lattice needs
+     * (~16 doubles a site): refused here rather than stalling in calloc's lazy pages */
+    int mem = fpl_check_alloc((size_t)n, 16 * sizeof(double), "a lattice of this N");
+    if (mem) return mem;
     if (v) {
         for (int j = 0; j < n; j++) {
             if (!isfinite(v[j]) || v[j] <= 0.0)
@@ -140,8 +144,9 @@ int fpl_lattice_boundary(const fpl_lattice *lattice) { return lattice ? lattice-
     } while (0)
 #define CHECK_NDEV(n_dev)                                                                      \
     do {                                                                                       \
-        if ((n_dev) < 0)                                                                       \
-            return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", (n_dev));       \
+        long len_;                                                                             \
+        int st_ = fpl_state_length(lattice->n, (n_dev), &len_);                                \
+        if (st_) return st_;                                                                   \
     } while (0)
 
 int fpl_lattice_get_v(const fpl_lattice *lattice, double *v, int n)
@@ -259,10 +264,15 @@ int fpl_lattice_jacobian_dense(const fpl_lattice *lattice, const double *y, int 
     CHECK_PTR(y);
     CHECK_PTR(jac);
     CHECK_NDEV(n_dev);
-    long dim = 2L * lattice->n * (n_dev + 1);
-    int st = check_finite_input("y", y, dim);
+    long dim;
+    int st = fpl_state_length(lattice->n, n_dev, &dim);
+    size_t entries = 0;
+    if (!st && fpl_size_mul((size_t)dim, (size_t)dim, &entries))
+        st = fpl_error(NULL, FPL_ERR_ARG, "a dense Jacobian of dim^2 = %ld^2 entries overflows", dim);
+    if (!st) st = fpl_check_alloc(entries, sizeof(double), "a dense Jacobian of dim^2 doubles");
+    if (!st) st = check_finite_input("y", y, dim);
     if (st) return st;
-    memset(jac, 0, sizeof(double) * (size_t)(dim * dim));
+    memset(jac, 0, sizeof(double) * (size_t)dim * (size_t)dim);
     struct dense_ctx c = {jac, dim};
     fpl_kernel_jacobian_entries(lattice, y, n_dev, emit_row_major, &c);
     return FPL_OK;

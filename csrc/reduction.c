@@ -442,6 +442,8 @@ int fpl_galerkin_create(const fpl_lattice *lattice, int m, fpl_galerkin **out)
     if (m < 1 || m > n)
         return red_error(NULL, FPL_ERR_ARG, "M (number of modes) must be in 1..N = %d (got %d)", n,
                          m);
+    int mst = fpl_check_alloc((size_t)m * (size_t)n, sizeof(double), "the Galerkin basis (M x N)");
+    if (mst) return mst;
     fpl_galerkin *g = calloc(1, sizeof *g);
     if (!g) return red_error(NULL, FPL_ERR_NOMEM, "out of memory allocating the Galerkin handle");
     g->n = n;

@@ -6,6 +6,8 @@
  * open for writing, and a run killed by SIGKILL would leave a file nobody can open.) Resuming
  * reads back every row it keeps (verified) before it changes anything. */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,6 +37,8 @@ struct fpl_results {
     fpl_work *work;            /* the mode transform's scratch for appended rows */
     long dim;                  /* 2N(1 + n_dev) */
     int store_states, chunk;
+    int root;                  /* the orbit series t, energy, mode_energies exist (not in a chaos
+                                  file, whose samples are all in /chaos) */
     series s[S_COUNT];         /* S_STATES.d < 0 unless store_states */
     series c[C_COUNT];         /* /chaos, created on the first chaos sample */
     double *buf[S_COUNT];      /* chunk rows each */
@@ -47,6 +51,7 @@ struct fpl_results {
 
 static int ensure_chaos(fpl_results *r);
 static int label_dimensions(fpl_results *r, int chaos);
+static int describe_variables(hid_t file);
 static const char *s_names[S_COUNT] = {"t", "energy", "mode_energies", "states"};
 static const char *c_names[C_COUNT] = {"chaos/t", "chaos/mle", "chaos/sali", "chaos/gali"};
 
@@ -128,8 +133,12 @@ static int check_info(const fpl_lattice *lat, const fpl_run_info *info)
 {
     if (!lat) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
     if (!info) return fpl_error(NULL, FPL_ERR_ARG, "info: NULL run description");
-    if (info->n_dev < 0)
-        return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", info->n_dev);
+    long dim;
+    int st = fpl_state_length(lat->n, info->n_dev, &dim);
+    if (st) return st;
+    if (info->store_states && dim > INT_MAX)   /* the columns of `states` are an int */
+        return fpl_error(NULL, FPL_ERR_ARG, "store_states: a state of %ld doubles is too wide to "
+                         "store as one row", dim);
     if (info->chunk_rows < 0)
         return fpl_error(NULL, FPL_ERR_ARG, "chunk_rows must be >= 0 (got %d)", info->chunk_rows);
     return FPL_OK;
@@ -144,6 +153,7 @@ static int new_handle(const fpl_lattice *lat, const fpl_run_info *info, fpl_resu
     r->lat = lat;
     r->dim = 2L * lat->n * (1 + info->n_dev);
     r->store_states = info->store_states != 0;
+    r->root = !(info->kind && strcmp(info->kind, "chaos") == 0) || r->store_states;
     r->chunk = info->chunk_rows ? info->chunk_rows : 256;
     long rows_fit = MAX_CHUNK_BYTES / (8L * (r->store_states ? r->dim : lat->n));
     if (rows_fit < 1) rows_fit = 1;
@@ -174,22 +184,22 @@ static int create_in(fpl_results *r, const char *path, const fpl_run_info *info)
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     r->file = fapl >= 0 && H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18) >= 0
                   ? H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl) : -1;
+    char msg[256] = "";
+    if (r->file < 0) fpl_h5_error_text(msg, sizeof msg);   /* before any other call clears it */
     if (fapl >= 0) H5Pclose(fapl);
-    if (r->file < 0) {
-        char msg[256];
-        fpl_h5_error_text(msg, sizeof msg);
+    if (r->file < 0)
         return fpl_error(NULL, FPL_ERR_IO, "cannot create results file %s: %s", path, msg);
-    }
     if (fpl_h5_write_description(r->file, SCHEMA, r->lat, info) ||
         fpl_h5_set_string(r->file, "status", "running") ||
         fpl_h5_set_string(r->file, "message", ""))
         return h5_fail(r, "writing the run description");
-    for (int i = 0; i < S_COUNT; i++) {
+    for (int i = 0; i < S_COUNT && r->root; i++) {
         if (i == S_STATES && !r->store_states) continue;
         if ((r->s[i].d = create_series(r->file, s_names[i], r->s[i].cols, r->chunk)) < 0)
             return h5_fail(r, "creating the datasets");
     }
     if (label_dimensions(r, 0)) return h5_fail(r, "labelling the dimensions");
+    if (describe_variables(r->file)) return h5_fail(r, "writing the variables' units");
     return H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "flush") : FPL_OK;
 }
 
@@ -206,11 +216,12 @@ int fpl_results_create(const char *path, const fpl_lattice *lat, const fpl_run_i
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     st = create_in(r, path, info);
+    int created = r->file >= 0;
+    if (st) release(r);   /* still quiet: closing a file that cannot be flushed reports errors */
+    if (st && created) remove(path);   /* a half-written file of ours helps nobody */
+    H5Eclear2(H5E_DEFAULT);
     fpl_h5_quiet_end(&q);
-    if (st) {
-        release(r);
-        return st;
-    }
+    if (st) return st;
     *out = r;
     return FPL_OK;
 }
@@ -376,12 +387,33 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
     if (r->file < 0) {
         char msg[256];
         fpl_h5_error_text(msg, sizeof msg);
+        /* HDF5 locks a file it opens (flock): EWOULDBLOCK means another process is writing it */
+        if (strstr(msg, "lock") || strstr(msg, strerror(EWOULDBLOCK)))
+            return fpl_error(NULL, FPL_ERR_IO, "results file %s is in use by another process (it "
+                             "holds the file's lock): let that run finish first (%s)", path, msg);
         return fpl_error(NULL, FPL_ERR_IO, "cannot open results file %s to resume (missing or "
                          "corrupt?): %s", path, msg);
     }
     if ((st = fpl_h5_check_description(r->file, path, SCHEMA, r->lat, info->method))) return st;
+    char kind[64] = "", status[32] = "";
+    if (!fpl_h5_get_string(r->file, "kind", kind, sizeof kind) && info->kind &&
+        strcmp(kind, info->kind) != 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "%s holds a %s run, this run is %s (refused, nothing "
+                         "changed)", path, kind, info->kind);
     if ((st = load_pending(r, checkpoint, rows, crows))) return st;
-    for (int i = 0; i < S_COUNT; i++) {
+    /* Nothing the file holds may be lost by a resume beyond the rows of a run that was killed
+     * after its last checkpoint: a file with stored states continued by a run without them
+     * would lose its `states`, and a finished file (status not "running": its last checkpoint
+     * was written at its end) with more samples than the checkpoint covers belongs to a later
+     * checkpoint than this one. */
+    if (!r->store_states && H5Lexists(r->file, s_names[S_STATES], H5P_DEFAULT) > 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "%s stores the states at every sample, its checkpoint "
+                         "%s is of a run without them: resuming would drop them (refused, nothing "
+                         "changed; resume with the states stored)", path, checkpoint);
+    H5Eclear2(H5E_DEFAULT);
+    int finished = !fpl_h5_get_string(r->file, "status", status, sizeof status) &&
+                   strcmp(status, "running") != 0;
+    for (int i = 0; i < S_COUNT && r->root; i++) {
         if (i == S_STATES && !r->store_states) continue;
         if (H5Lexists(r->file, s_names[i], H5P_DEFAULT) <= 0 ||
             (r->s[i].d = H5Dopen2(r->file, s_names[i], H5P_DEFAULT)) < 0) {
@@ -415,6 +447,11 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
                              "checkpoint %s records: not the file of that run", path, have,
                              s_names[i], *rows, checkpoint);
+        if (finished && have > *rows + r->nbuf)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s is a finished run (status %s) with %ld samples; "
+                             "its checkpoint %s covers only %ld: the checkpoint is older than the "
+                             "file and resuming would drop %ld samples (refused, nothing changed)",
+                             path, status, have, checkpoint, *rows + r->nbuf, have - *rows - r->nbuf);
         int mismatch = 0;
         if (verify && read_back(&r->s[i], r->buf[i], *rows, r->chunk, &mismatch)) {
             char msg[256];
@@ -426,6 +463,19 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_IO, "%s is corrupt: its %s rows differ from those its "
                              "checkpoint %s covers (checksum mismatch)", path, s_names[i], checkpoint);
     }
+    if (finished && *crows == 0 && H5Lexists(r->file, "chaos", H5P_DEFAULT) > 0 &&
+        H5Lexists(r->file, c_names[C_T], H5P_DEFAULT) > 0) {
+        hid_t d = H5Dopen2(r->file, c_names[C_T], H5P_DEFAULT);
+        series probe = {d, 0, 0, 0};
+        long have = d >= 0 ? series_rows_checked(&probe) : -1;
+        if (d >= 0) H5Dclose(d);
+        if (have > r->ncbuf)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s is a finished run (status %s) with %ld chaos "
+                             "samples; its checkpoint %s covers only %d: the checkpoint is older "
+                             "than the file (refused, nothing changed)", path, status, have,
+                             checkpoint, r->ncbuf);
+    }
+    H5Eclear2(H5E_DEFAULT);
     for (int i = 0; i < C_COUNT && *crows > 0; i++) {
         long have = series_rows_checked(&r->c[i]);
         if (have < 0)
@@ -435,6 +485,11 @@ static int open_for_resume(fpl_results *r, const char *path, unsigned mode, cons
             return fpl_error(NULL, FPL_ERR_ARG, "%s has %ld rows in %s, fewer than the %ld its "
                              "checkpoint %s records: not the file of that run", path, have,
                              c_names[i], *crows, checkpoint);
+        if (finished && have > *crows + r->ncbuf)
+            return fpl_error(NULL, FPL_ERR_ARG, "%s is a finished run (status %s) with %ld chaos "
+                             "samples; its checkpoint %s covers only %ld: the checkpoint is older "
+                             "than the file (refused, nothing changed)", path, status, have,
+                             checkpoint, *crows + r->ncbuf);
         int mismatch = 0;
         if (verify && read_back(&r->c[i], r->cbuf[i], *crows, r->chunk, &mismatch)) {
             char msg[256];
@@ -552,8 +607,8 @@ int fpl_results_resume(const char *path, const fpl_lattice *lat, const fpl_run_i
         goto done;
     }
     if (fpl_fsync_path(tmp) != 0 || rename(tmp, target) != 0) {
-        st = fpl_error(NULL, FPL_ERR_IO, "cannot move the resumed results %s into place as %s",
-                       tmp, target);
+        st = fpl_error(NULL, FPL_ERR_IO, "cannot move the resumed results %s into place as %s: %s",
+                       tmp, target, strerror(errno));
         goto done;
     }
     created = 0;
@@ -580,6 +635,38 @@ long fpl_results_count(const fpl_results *r) { return r ? r->s[S_T].rows + r->nb
  * (1..2N(1+n_dev), for states) are small index datasets made scales of the column axes. In
  * /chaos, chaos/t is the scale of mle, sali, gali. Called once, when the datasets are created
  * (a resumed file has them already). Returns 0, or -1 with HDF5's message in r->h5msg. */
+/* CF-style `long_name` and `units` on every variable there is (xarray.open_dataset shows them,
+ * ncdump lists them). fputlab's quantities are in the lattice's dimensionless units: "1". */
+static const char *const var_text[][2] = {
+    {"t", "time"},
+    {"energy", "total energy"},
+    {"mode_energies", "normal-mode energy E_k"},
+    {"states", "state: x and p of the orbit, then of each deviation vector"},
+    {"v", "variability v_j"},
+    {"mode", "normal-mode number k"},
+    {"site", "particle index j"},
+    {"component", "state component"},
+    {"chaos/t", "time"},
+    {"chaos/mle", "finite-time maximum Lyapunov exponent"},
+    {"chaos/sali", "smaller alignment index SALI"},
+    {"chaos/gali", "generalised alignment index GALI"},
+};
+
+static int describe_variables(hid_t file)
+{
+    int bad = 0;
+    for (size_t i = 0; i < sizeof var_text / sizeof *var_text && !bad; i++) {
+        const char *name = var_text[i][0];
+        if (strchr(name, '/') && H5Lexists(file, "chaos", H5P_DEFAULT) <= 0) continue;
+        if (H5Lexists(file, name, H5P_DEFAULT) <= 0) continue;
+        hid_t d = H5Dopen2(file, name, H5P_DEFAULT);
+        bad = d < 0 || fpl_h5_set_string(d, "long_name", var_text[i][1]) ||
+              fpl_h5_set_string(d, "units", "1");
+        if (d >= 0) H5Dclose(d);
+    }
+    return bad ? -1 : 0;
+}
+
 /* A dimension scale first, first + 1, ..., first + n - 1. */
 static hid_t index_scale(hid_t loc, const char *name, long n, int first)
 {
@@ -609,18 +696,19 @@ static int label_dimensions(fpl_results *r, int chaos)
             bad |= H5DSattach_scale(r->c[i].d, r->c[C_T].d, 0) < 0;
     } else {
         /* modes k = 1..N of the fixed chain, wavenumbers 0..N-1 of a ring (fputlab/modes.h) */
-        hid_t mode = index_scale(r->file, "mode", r->lat->n,
-                                 r->lat->boundary == FPL_BOUNDARY_PERIODIC ? 0 : 1);
+        hid_t mode = r->root ? index_scale(r->file, "mode", r->lat->n,
+                                           r->lat->boundary == FPL_BOUNDARY_PERIODIC ? 0 : 1) : 0;
         hid_t site = index_scale(r->file, "site", r->lat->n, 1);
         hid_t comp = r->store_states ? index_scale(r->file, "component", r->dim, 1) : 0;
         hid_t v = H5Dopen2(r->file, "v", H5P_DEFAULT);
-        bad = mode < 0 || site < 0 || comp < 0 || v < 0 || H5DSset_scale(r->s[S_T].d, "t") < 0;
-        for (int i = S_T + 1; i < S_COUNT && !bad; i++)
+        bad = mode < 0 || site < 0 || comp < 0 || v < 0 ||
+              (r->root && H5DSset_scale(r->s[S_T].d, "t") < 0);
+        for (int i = S_T + 1; i < S_COUNT && !bad && r->root; i++)
             if (r->s[i].d >= 0) bad |= H5DSattach_scale(r->s[i].d, r->s[S_T].d, 0) < 0;
-        if (!bad) bad |= H5DSattach_scale(r->s[S_MODE_ENERGIES].d, mode, 1) < 0;
+        if (!bad && r->root) bad |= H5DSattach_scale(r->s[S_MODE_ENERGIES].d, mode, 1) < 0;
         if (!bad && r->store_states) bad |= H5DSattach_scale(r->s[S_STATES].d, comp, 1) < 0;
         if (!bad) bad |= H5DSattach_scale(v, site, 0) < 0;
-        if (mode >= 0) H5Dclose(mode);
+        if (mode > 0) H5Dclose(mode);
         if (site >= 0) H5Dclose(site);
         if (comp > 0) H5Dclose(comp);
         if (v >= 0) H5Dclose(v);
@@ -643,7 +731,7 @@ static int ensure_chaos(fpl_results *r)
         }
         if (r->c[i].d < 0) return -1;
     }
-    return created ? label_dimensions(r, 1) : 0;
+    return created ? (label_dimensions(r, 1) || describe_variables(r->file)) : 0;
 }
 
 /* Write the buffers: only full ones (whole chunks), unless `all` (closing the file). */
@@ -680,6 +768,9 @@ int fpl_results_append(fpl_results *r, double t, const double *y)
 {
     if (!r) return fpl_error(NULL, FPL_ERR_ARG, "results: NULL handle");
     if (!y) return fail(r, fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer"));
+    if (!r->root)
+        return fail(r, fpl_error(NULL, FPL_ERR_ARG, "this results file (kind \"chaos\") holds no "
+                                 "orbit samples: write them to a file of kind \"simulate\""));
     if (!isfinite(t)) return fail(r, fpl_error(NULL, FPL_ERR_ARG, "t must be finite (got %g)", t));
     const long n = r->lat->n;
     long bad;

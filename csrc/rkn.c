@@ -146,6 +146,9 @@ int fpl_rkn_run_setup(const fpl_splitting *scheme, fpl_split_run *run)
     if (!T || T->stages < 1 || T->stages > RKN_MAX_STAGES)
         return fpl_error(NULL, FPL_ERR_ARG, "method '%s': not an RKN table of 1..%d stages",
                          scheme->name, RKN_MAX_STAGES);
+    int mst = fpl_check_alloc((size_t)run->sys.dim, (size_t)T->stages * sizeof(double),
+                              "the RKN stage vectors");
+    if (mst) return mst;
     rkn_state *st = calloc(1, sizeof *st);
     if (!st) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (%s)", scheme->name);
     st->tab = T;

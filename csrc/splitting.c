@@ -115,12 +115,14 @@ int fpl_splitting_advance(const fpl_splitting *scheme, const fpl_lattice *lattic
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
     if (!scheme) return fpl_error(NULL, FPL_ERR_ARG, "scheme: NULL");
     if (!y) return fpl_error(NULL, FPL_ERR_ARG, "y: NULL pointer");
-    if (n_dev < 0) return fpl_error(NULL, FPL_ERR_ARG, "n_dev must be >= 0 (got %d)", n_dev);
+    long len;
+    int sst = fpl_state_length(lattice->n, n_dev, &len);
+    if (sst) return sst;
     if (nsteps < 0)
         return fpl_error(NULL, FPL_ERR_ARG, "nsteps must be >= 0 (got %ld)", nsteps);
     if (!(dt > 0.0) || !isfinite(dt))
         return fpl_error(NULL, FPL_ERR_ARG, "dt must be finite and > 0 (got %g)", dt);
-    long len = 2L * lattice->n * (n_dev + 1), bad = -1;
+    long bad = -1;
     if (!fpl_is_finite_array(y, len, &bad))
         return fpl_error(NULL, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
     fpl_work *work = NULL;

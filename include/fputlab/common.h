@@ -26,6 +26,8 @@ extern "C" {
 enum fpl_status {
     FPL_OK = 0,
     FPL_EVENT = 1,             /* informational: an event stopped the run */
+    FPL_PAUSED = 2,            /* informational: the call's time budget ran out before its
+                                  target (fpl_integrator_set_budget); call again to go on */
     FPL_ERR_ARG = -1,          /* invalid argument (value out of range, NaN, wrong length) */
     FPL_ERR_NOMEM = -2,        /* allocation failed */
     FPL_ERR_NONFINITE = -3,    /* the state became NaN/Inf (integration failure) */

@@ -65,6 +65,16 @@ FPL_API int fpl_integrator_n_dev(const fpl_integrator *integrator);
  * fired first (y_out is then the state at the event). */
 FPL_API int fpl_integrator_advance(fpl_integrator *integrator, double t_target, double *y_out);
 
+/* At most `seconds` of wall time per advance/sample/run call inside an adaptive multistep solve
+ * (CVODE: cvode-adams, cvode-bdf, whose steps at large N take milliseconds each and whose
+ * sample intervals can take minutes): when it runs out before the target, the call returns
+ * FPL_PAUSED with the integrator at its last internal step (fpl_integrator_time; sample and run
+ * also give the samples done) and the same call, made again, continues exactly as if it had
+ * not paused. An embedder sets it to see signals (Ctrl-C) between calls. 0 (the default): no
+ * budget. Other methods ignore it (a fixed-step run can be advanced piecewise instead).
+ * FPL_ERR_ARG for a negative or non-finite value. */
+FPL_API int fpl_integrator_set_budget(fpl_integrator *integrator, double seconds);
+
 /* Time of the internal state (for fixed-step methods the last grid point reached). */
 FPL_API double fpl_integrator_time(const fpl_integrator *integrator);
 /* Copy the internal state (length 2N(1+n_dev)). */

@@ -41,6 +41,24 @@ def _string(p) -> str:
     return ffi.string(p).decode() if p != ffi.NULL else ""
 
 
+def _cpath(path) -> bytes:
+    """A file name as the C library gets it. C ends a name at its first NUL byte, so a name with
+    one would silently name another file ('r.h5\\0.new' is 'r.h5'): refused here, the one place
+    names go to C, whatever the caller checked."""
+    b = os.fsencode(path)
+    if b"\0" in b:
+        raise ValueError(f"path: the file name {os.fsdecode(b)!r} contains a NUL byte")
+    return b
+
+
+def _cstr(text: str, name: str = "name") -> bytes:
+    """A name or message as a C string (a NUL byte would cut it short: refused)."""
+    b = text.encode()
+    if b"\0" in b:
+        raise ValueError(f"{name}: {text!r} contains a NUL byte")
+    return b
+
+
 def _nul(arr):
     """double* of an array, NULL for None or an empty array."""
     return ptr(arr) if arr is not None and arr.size else ffi.NULL
@@ -82,6 +100,11 @@ EVENT_KINDS = {"energy": lib.FPL_EVENT_ENERGY, "displacement": lib.FPL_EVENT_MAX
 MAX_EVENTS = len(ffi.new("fpl_event_set *").kind)
 #: informational status: a stopping criterion fired
 EVENT = int(lib.FPL_EVENT)
+PAUSED = int(lib.FPL_PAUSED)
+#: wall-clock seconds an adaptive multistep solve (CVODE) may spend in one C call before it
+#: pauses (fpl_integrator_set_budget): the loops below go on at once, and Python sees Ctrl-C
+#: between the calls
+CALL_BUDGET = 0.2
 #: error statuses of a bad argument (ValueError in Python)
 ARG_ERRORS = (int(lib.FPL_ERR_ARG), int(lib.FPL_ERR_UNKNOWN))
 #: error status: the state became NaN/Inf
@@ -107,7 +130,7 @@ def chaos_batch_method_names() -> list[str]:
 def method_info(method: str) -> tuple[int, bool]:
     """fpl_method_info: (order, adaptive)."""
     order, adaptive = ffi.new("int *"), ffi.new("int *")
-    check(lib.fpl_method_info(method.encode(), order, adaptive))
+    check(lib.fpl_method_info(_cstr(method, "method"), order, adaptive))
     return order[0], bool(adaptive[0])
 
 
@@ -312,10 +335,11 @@ class IntegratorHandle(_Handle):
                  y0: np.ndarray, events=None):
         out = ffi.new("fpl_integrator **")
         _with_events(options, events, lambda: check(lib.fpl_integrator_create(
-            lattice.ptr, method.encode(), n_dev, options, t0, ptr(y0), out)))
+            lattice.ptr, _cstr(method, "method"), n_dev, options, t0, ptr(y0), out)))
         self._own(out[0])
         self.lattice, self.shape = lattice, (1 + n_dev, 2 * lattice.N)
         self._state_buffer()
+        check(lib.fpl_integrator_set_budget(self.ptr, CALL_BUDGET))
 
     @classmethod
     def _view(cls, cdata, lattice: LatticeHandle, n_dev: int, owner) -> "IntegratorHandle":
@@ -374,12 +398,17 @@ class IntegratorHandle(_Handle):
     def advance(self, t: float, out: np.ndarray | None = None) -> int:
         """fpl_integrator_advance to t, the state there into `out` (None: not copied); returns
         the status (FPL_EVENT if a criterion fired)."""
-        return self.check(lib.fpl_integrator_advance(self.ptr, t, _nul(out)))
+        while True:     # FPL_PAUSED: the call's time budget ran out; signals are seen here
+            status = self.check(lib.fpl_integrator_advance(self.ptr, t, _nul(out)))
+            if status != PAUSED:
+                return status
 
     def advance_copy(self, t: float) -> np.ndarray:
         """fpl_integrator_advance to t; returns the state there as a new array of shape
         `shape` (through the handle's own output buffer: per call the C call and one copy)."""
         status = lib.fpl_integrator_advance(self.ptr, t, self._out_ptr)
+        while status == PAUSED:     # the call's time budget ran out; signals are seen here
+            status = lib.fpl_integrator_advance(self.ptr, t, self._out_ptr)
         if status < 0:
             self.check(status)
         return self._out.copy()
@@ -391,15 +420,20 @@ class IntegratorHandle(_Handle):
                energies: np.ndarray | None) -> tuple[int, int]:
         """fpl_integrator_sample into the given arrays (None: not wanted); returns (status,
         samples taken). A negative status raises with ``.done`` = the samples taken."""
-        done = ffi.new("int *")
-        status = lib.fpl_integrator_sample(self.ptr, _nul(times), times.size, _nul(states),
-                                           _nul(mode_energies), _nul(energies), done)
-        try:
-            self.check(status)
-        except FputlabError as err:
-            err.done = done[0]
-            raise
-        return status, done[0]
+        done, total = ffi.new("int *"), 0
+        rest = lambda a: None if a is None else a[total:]
+        while True:     # FPL_PAUSED: the call's time budget ran out; signals are seen here
+            status = lib.fpl_integrator_sample(
+                self.ptr, _nul(rest(times)), times.size - total, _nul(rest(states)),
+                _nul(rest(mode_energies)), _nul(rest(energies)), done)
+            total += done[0]
+            try:
+                self.check(status)
+            except FputlabError as err:
+                err.done = total
+                raise
+            if status != PAUSED:
+                return status, total
 
     def event(self) -> tuple[int, float] | None:
         """(criterion index, time) if a stopping criterion stopped the integrator."""
@@ -422,7 +456,8 @@ class ChaosHandle(_Handle):
                  w0: np.ndarray | None, chaos_opts, events=None):
         out = ffi.new("fpl_chaos **")
         _with_events(options, events, lambda: check(lib.fpl_chaos_create(
-            lattice.ptr, method.encode(), options, t0, ptr(y0), _nul(w0), chaos_opts, out)))
+            lattice.ptr, _cstr(method, "method"), options, t0, ptr(y0), _nul(w0), chaos_opts,
+            out)))
         self._own(out[0])
         self.lattice, self.n_dev = lattice, int(chaos_opts.n_dev)
 
@@ -467,7 +502,7 @@ class ChaosBatchHandle(_Handle):
         handles = ffi.new("fpl_lattice *[]", [lat.ptr for lat in self._lattices])
         out = ffi.new("fpl_chaos_batch **")
         _with_events(options, events, lambda: check(lib.fpl_chaos_batch_create(
-            handles, len(self._lattices), method.encode(), options, t0, ptr(y0), _nul(w0),
+            handles, len(self._lattices), _cstr(method, "method"), options, t0, ptr(y0), _nul(w0),
             batch_opts, out)))
         self._own(out[0])
 
@@ -558,7 +593,7 @@ class RunInfo:
         lib.fpl_run_info_init(self.c)
         for name, value in fields.items():
             if isinstance(value, str):
-                value = ffi.new("char[]", value.encode())
+                value = ffi.new("char[]", _cstr(value, name))
                 self._keep.append(value)
             setattr(self.c, name, value)
 
@@ -570,10 +605,10 @@ class ResultsHandle:
     def __init__(self, path, lattice: LatticeHandle, info: RunInfo, resume_from=None):
         out = ffi.new("fpl_results **")
         if resume_from is None:
-            check(lib.fpl_results_create(os.fspath(path).encode(), lattice.ptr, info.c, out))
+            check(lib.fpl_results_create(_cpath(path), lattice.ptr, info.c, out))
         else:
-            check(lib.fpl_results_resume(os.fspath(path).encode(), lattice.ptr, info.c,
-                                         os.fspath(resume_from).encode(), out))
+            check(lib.fpl_results_resume(_cpath(path), lattice.ptr, info.c,
+                                         _cpath(resume_from), out))
         self.ptr = out[0]
 
     def count(self) -> int:
@@ -586,10 +621,12 @@ class ResultsHandle:
         check(lib.fpl_results_append_chaos(self.ptr, t, mle, sali, gali))
 
     def set_status(self, status: str, message: str) -> None:
-        check(lib.fpl_results_set_status(self.ptr, status.encode(), message.encode()))
+        # a message is free text: a NUL in it is spelled out rather than refused at the end of a run
+        check(lib.fpl_results_set_status(self.ptr, _cstr(status, "status"),
+                                         message.replace("\0", "\\0").encode()))
 
     def set_event(self, t: float, criterion: str) -> None:
-        check(lib.fpl_results_set_event(self.ptr, t, criterion.encode()))
+        check(lib.fpl_results_set_event(self.ptr, t, _cstr(criterion, "criterion")))
 
     def flush(self) -> None:
         check(lib.fpl_results_flush(self.ptr))
@@ -610,14 +647,13 @@ class ResultsHandle:
 def results_verify(path, lattice: LatticeHandle, info: RunInfo, checkpoint) -> int:
     """fpl_results_verify: the status, unchecked (it may run in a forked child, which reports
     the status and `last_error()` to its parent)."""
-    return lib.fpl_results_verify(os.fspath(path).encode(), lattice.ptr, info.c,
-                                  os.fspath(checkpoint).encode())
+    return lib.fpl_results_verify(_cpath(path), lattice.ptr, info.c, _cpath(checkpoint))
 
 
 def checkpoint_write(path, integrator: IntegratorHandle, info: RunInfo, extra: np.ndarray,
                      results: ResultsHandle | None = None) -> None:
     """fpl_checkpoint_write (atomic), with the accumulators `extra` and where `results` stands."""
-    check(lib.fpl_checkpoint_write(os.fspath(path).encode(), integrator.ptr, info.c, _nul(extra),
+    check(lib.fpl_checkpoint_write(_cpath(path), integrator.ptr, info.c, _nul(extra),
                                    extra.size, results.ptr if results is not None else ffi.NULL))
 
 
@@ -626,7 +662,7 @@ def checkpoint_load(path, integrator: IntegratorHandle, info: RunInfo,
     """fpl_checkpoint_load: restores the integrator, returns the accumulators."""
     ex = np.empty(max(max_extra, 1))
     n = ffi.new("int *")
-    check(lib.fpl_checkpoint_load(os.fspath(path).encode(), integrator.ptr, info.c, ptr(ex),
+    check(lib.fpl_checkpoint_load(_cpath(path), integrator.ptr, info.c, ptr(ex),
                                   max_extra, n))
     return ex[:n[0]].copy()
 
@@ -634,7 +670,7 @@ def checkpoint_load(path, integrator: IntegratorHandle, info: RunInfo,
 def checkpoint_peek(path) -> tuple[float, int]:
     """fpl_checkpoint_peek: (t, step count)."""
     t, n = ffi.new("double *"), ffi.new("long *")
-    check(lib.fpl_checkpoint_peek(os.fspath(path).encode(), t, n))
+    check(lib.fpl_checkpoint_peek(_cpath(path), t, n))
     return t[0], int(n[0])
 
 
@@ -668,7 +704,7 @@ def chaos_gali(w: np.ndarray) -> float:
 def splitting_lookup(method: str):
     """fpl_splitting_lookup: the constant scheme table of a splitting method."""
     out = ffi.new("const fpl_splitting **")
-    check(lib.fpl_splitting_lookup(method.encode(), out))
+    check(lib.fpl_splitting_lookup(_cstr(method, "method"), out))
     return out[0]
 
 

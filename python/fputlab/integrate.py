@@ -60,8 +60,12 @@ def criteria_events(criteria):
         if not isinstance(c, (tuple, list)) or len(c) not in (2, 3):
             raise TypeError(f"criteria[{i}] must be (name, threshold) or ('mode_energy', threshold, k)")
         name = c[0]
-        if name not in CRITERIA:
+        if not isinstance(name, str) or name not in CRITERIA:
             raise ValueError(f"criteria[{i}]: {name!r} is unknown (known: {', '.join(CRITERIA)})")
+        if (len(c) == 3) != (name == "mode_energy"):
+            raise ValueError(f"criteria[{i}] = {tuple(c)!r}: {name!r} takes "
+                             + ("(name, threshold, k)" if name == "mode_energy" else
+                                "(name, threshold), without a third element"))
         events.append((CRITERIA[name], _real(c[1], f"criteria[{i}] threshold"),
                        _int(c[2], f"criteria[{i}] mode k") if len(c) == 3 else 0))
     return ll.event_set(events)
@@ -285,12 +289,24 @@ class Run:
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
+#: the most fixed steps one run may ask for: 1e13 steps are days of CPU time even at N = 8
+#: (~1e8 steps/s); more is a slip in dt or t_end, not a run (the C core's own limit is 9e18)
+MAX_FIXED_STEPS = 1e13
+
+
 def check_steps(span: float, dt: float | None, name: str, value: float) -> None:
-    """Refuse a fixed-step run of more than 9e18 steps (the C core's limit), before it starts:
-    run in segments it would otherwise go on for ever."""
-    if dt is not None and span / dt > 9e18:
+    """Refuse, before it starts, a fixed-step run over `span` that no whole step of dt fits
+    (it used to "complete" at t = 0) or that needs more than `MAX_FIXED_STEPS` steps (it would
+    run, in segments, for months)."""
+    if dt is None:
+        return
+    dt = _positive_real(dt, "dt")
+    if span > 0 and dt > span:
+        raise ValueError(f"dt = {dt:g} is longer than the whole run ({name} = {value:g}): not "
+                         "one step fits; use a smaller dt")
+    if span / dt > MAX_FIXED_STEPS:
         raise ValueError(f"{name} = {value:g} needs {span / dt:.3g} steps of dt = {dt:g}, more "
-                         "than 9e18")
+                         f"than {MAX_FIXED_STEPS:.0e}: a larger dt or a shorter run")
 
 
 def _sample_times(t0: float, t_end: float, sample_every, times) -> np.ndarray:
@@ -435,6 +451,9 @@ def integrate(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: f
                              "fixed-step method only reaches multiples of dt (use a smaller dt or "
                              "sample less often)")
     criteria_events(stop_on)       # bad criteria raise here, before anything runs
+    chunk = _int(chunk, "chunk")
+    if chunk < 1:
+        raise ValueError(f"chunk must be >= 1 (got {chunk})")
     return _integrate(lattice, ts, state0, orbit, method, t0, dt, rtol, atol, store_states,
                       chunk, on_failure, progress, stop_on, compensated_sums)
 

@@ -195,9 +195,9 @@ class Lattice:
         two_n = 2 * self.N
         if arr.ndim == 1 and arr.size % two_n == 0 and arr.size > 0:
             arr = arr.reshape(-1, two_n)
-        if arr.ndim != 2 or arr.shape[1] != two_n:
+        if arr.ndim != 2 or arr.shape[1] != two_n or arr.shape[0] == 0:
             raise ValueError(f"{name} has shape {np.shape(y)}, expected (2N(1+k),) or (1+k, 2N) "
-                             f"with 2N = {two_n}")
+                             f"with 2N = {two_n}: the orbit, then k >= 0 deviation vectors")
         return arr, arr.shape[0] - 1
 
     # -- evaluation ---------------------------------------------------------------------------

@@ -1,4 +1,5 @@
 /* Bad input: every invalid parameter gives an error status and a message naming it. */
+#include <limits.h>
 #include <string.h>
 #include "check.h"
 #include "fputlab.h"
@@ -105,6 +106,30 @@ int main(void)
     CHECK_OK(fpl_integrator_get_state(h, last));
     for (int i = 0; i < 8; i++) CHECK(isfinite(last[i]), "last state not finite");
     fpl_integrator_free(&h);
+
+    /* sizes: products that would overflow or cannot fit in memory are refused with a status,
+     * before anything is read or allocated (INT_MAX sites stalled in calloc until the OOM
+     * killer; n_dev = INT_MAX overflowed n_dev + 1 and dim^2 and crashed) */
+    fpl_lattice *huge = NULL;
+    EXPECT_ERR(fpl_lattice_create(INT_MAX, 0.25, 0.0, 1, NULL, &huge), FPL_ERR_NOMEM, "lattice");
+    CHECK(huge == NULL, "no handle for a lattice that cannot fit");
+    double jac[64];
+    EXPECT_ERR(fpl_lattice_jacobian_dense(lat, y, INT_MAX, jac), FPL_ERR_NOMEM, "n_dev");
+    EXPECT_ERR(fpl_lattice_jacobian_dense(lat, y, 1 << 16, jac), FPL_ERR_NOMEM, "Jacobian");
+    EXPECT_ERR(fpl_lattice_rhs(lat, y, INT_MAX, out), FPL_ERR_NOMEM, "n_dev");
+    EXPECT_ERR(fpl_lattice_tangent_force(lat, y, INT_MAX, y, out), FPL_ERR_NOMEM, "n_dev");
+    EXPECT_ERR(fpl_integrator_create(lat, "yoshida4", INT_MAX, &opt, 0.0, y, &h), FPL_ERR_NOMEM,
+               "n_dev");
+    CHECK(h == NULL, "no integrator for an impossible state size");
+    EXPECT_ERR(fpl_splitting_advance(s, lat, y, INT_MAX, 0.01, 1), FPL_ERR_NOMEM, "n_dev");
+    fpl_run_info ri;
+    fpl_run_info_init(&ri);
+    ri.n_dev = INT_MAX;
+    fpl_results *res = NULL;
+    EXPECT_ERR(fpl_results_create("never-written.h5", lat, &ri, &res), FPL_ERR_NOMEM, "n_dev");
+    CHECK(res == NULL, "no results handle");
+    double w[8 * 4];
+    EXPECT_ERR(fpl_chaos_gali(w, INT_MAX, 1L << 40, out), FPL_ERR_NOMEM, "GALI");
     fpl_lattice_free(&lat);
     fpl_lattice_free(&lat); /* double free of a cleared handle is harmless */
     fpl_lattice_free(NULL);

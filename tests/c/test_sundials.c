@@ -165,9 +165,58 @@ static void test_ring_jacobian(SUNContext ctx)
     fpl_lattice_free(&lat);
 }
 
+/* A time budget per call pauses a CVODE solve (FPL_PAUSED, the integrator at an internal step
+ * between its start and the target) and the same call made again goes on to exactly the state
+ * of an unbudgeted run: same steps, same bits. */
+static void test_budget(void)
+{
+    const char *methods[] = {"cvode-bdf", "cvode-adams"};
+    for (int mi = 0; mi < 2; mi++) {
+        fpl_lattice *lat = NULL;
+        CHECK_OK(fpl_lattice_create(16, 0.25, 0.0, 1, NULL, &lat));
+        double y0[32], ya[32], yb[32];
+        CHECK_OK(fpl_modes_initial_state(lat, 1, 1.0, y0));
+        fpl_integrator *a = NULL, *b = NULL;
+        CHECK_OK(fpl_integrator_create(lat, methods[mi], 0, NULL, 0.0, y0, &a));
+        CHECK_OK(fpl_integrator_create(lat, methods[mi], 0, NULL, 0.0, y0, &b));
+        CHECK(fpl_integrator_set_budget(b, -1.0) == FPL_ERR_ARG, "negative budget refused");
+        CHECK(fpl_integrator_set_budget(b, NAN) == FPL_ERR_ARG, "NaN budget refused");
+        CHECK_OK(fpl_integrator_set_budget(b, 1e-9));   /* pauses after every internal step */
+        CHECK_OK(fpl_integrator_advance(a, 20.0, ya));
+        int calls = 0, st;
+        double t_prev = 0.0;
+        while ((st = fpl_integrator_advance(b, 20.0, yb)) == FPL_PAUSED) {
+            double t = fpl_integrator_time(b);
+            CHECK(t > t_prev && t < 20.0, "%s: paused at t = %g after %g", methods[mi], t, t_prev);
+            t_prev = t;
+            calls++;
+        }
+        CHECK(st == FPL_OK && fpl_integrator_time(b) == 20.0, "%s: ends at the target (%d)",
+              methods[mi], st);
+        CHECK(calls > 10, "%s: paused %d times", methods[mi], calls);
+        CHECK(memcmp(ya, yb, sizeof ya) == 0, "%s: paused run differs", methods[mi]);
+        CHECK(fpl_integrator_steps(a) == fpl_integrator_steps(b), "%s: steps %ld vs %ld",
+              methods[mi], fpl_integrator_steps(a), fpl_integrator_steps(b));
+        /* samples: a paused sample call reports the samples done and goes on from there */
+        double ts[3] = {25.0, 30.0, 40.0}, ea[3], eb[3];
+        int done = 0, total = 0;
+        CHECK_OK(fpl_integrator_sample(a, ts, 3, NULL, NULL, ea, &done));
+        while ((st = fpl_integrator_sample(b, ts + total, 3 - total, NULL, NULL, eb + total,
+                                           &done)) == FPL_PAUSED)
+            total += done;
+        total += done;
+        CHECK(st == FPL_OK && total == 3 && memcmp(ea, eb, sizeof ea) == 0,
+              "%s: paused samples differ (st %d, %d done)", methods[mi], st, total);
+        fpl_integrator_free(&a);
+        fpl_integrator_free(&b);
+        fpl_lattice_free(&lat);
+    }
+}
+
 int main(void)
 {
     test_versions();
+    test_budget();
     SUNContext ctx;
     SUNContext_Create(FPL_SUN_COMM_NULL, &ctx);
     test_callbacks(ctx);

@@ -16,7 +16,7 @@ def test_simulate_writes_hdf5(tmp_path, capsys):
     assert summary["status"] == "completed" and summary["samples"] == 1001
     with h5py.File(out) as f:
         assert f.attrs["N"] == 16 and f.attrs["model"] == 3
-        assert f.attrs["model_name"] == b"nonlinear" and f.attrs["status"] == b"completed"
+        assert f.attrs["model_name"] == "nonlinear" and f.attrs["status"] == "completed"
         assert f["mode_energies"].shape == (1001, 16)
         assert np.all(np.isfinite(f["mode_energies"][...]))
     ref = fputlab.Lattice(16, 0.25, "nonlinear", tau=10, seed=1).integrate(50.0, sample_every=0.05)

@@ -208,3 +208,68 @@ def test_xarray_view_when_installed(tmp_path, reference):
     xr = pytest.importorskip("xarray")
     ds = load(reference[1].path, as_xarray=True)
     assert isinstance(ds, xr.Dataset) and ds["mode_energies"].shape == reference[0]["mode_energies"].shape
+
+
+# ---- issue 26, item 5: files a netCDF/xarray user can read -----------------------------------
+
+def test_string_attributes_are_str_and_variables_carry_units(tmp_path):
+    import h5py
+    from fputlab.io import simulate_to_file as sim
+    sim(fputlab.Lattice(8, 0.25, "nonlinear", tau=10.0, seed=3), 5.0, tmp_path / "r.h5",
+        store_states=True)
+    with h5py.File(tmp_path / "r.h5") as f:
+        for k in ("schema", "kind", "model_name", "method", "status", "disorder"):
+            assert isinstance(f.attrs[k], str), (k, f.attrs[k])
+        assert f.attrs["disorder"] == "gaussian" and f.attrs["seed"] == 3
+        assert f.attrs["tau"] == 10.0
+        for name in ("t", "energy", "mode_energies", "states", "v", "mode", "site", "component"):
+            assert f[name].attrs["units"] == "1", name
+            assert isinstance(f[name].attrs["long_name"], str) and f[name].attrs["long_name"]
+    xr = pytest.importorskip("xarray")
+    ds = xr.open_dataset(tmp_path / "r.h5", engine="h5netcdf")
+    assert ds["mode_energies"].attrs["long_name"] == "normal-mode energy E_k"
+    assert ds["t"].attrs["units"] == "1" and ds.attrs["model_name"] == "nonlinear"
+    ds.close()
+
+
+def test_a_homogeneous_run_stores_no_disorder(tmp_path):
+    import h5py
+    from fputlab.io import simulate_to_file as sim
+    sim(fputlab.Lattice(8, 0.25), 5.0, tmp_path / "h.h5", checkpoint=tmp_path / "h.ck")
+    for name in ("h.h5", "h.ck"):
+        with h5py.File(tmp_path / name) as f:
+            assert not {"tau", "seed", "disorder"} & set(f.attrs), (name, dict(f.attrs))
+    assert fputlab.load(tmp_path / "h.h5").attrs["model_name"] == "homogeneous"
+
+
+def test_a_chaos_file_has_no_empty_root_datasets_and_resumes(tmp_path):
+    import h5py
+    from fputlab.io import chaos_to_file as chaos
+    out, ck = tmp_path / "c.h5", tmp_path / "c.ck"
+    chaos(fputlab.Lattice(8, 0.25), 50.0, out, checkpoint=ck, n_samples=10)
+    with h5py.File(out) as f:
+        assert sorted(f) == ["chaos", "site", "v"]
+        assert sorted(f["chaos"]) == ["gali", "mle", "sali", "t"]
+        assert f["chaos/mle"].attrs["long_name"] == "finite-time maximum Lyapunov exponent"
+    r = fputlab.load(out)
+    assert r.t.shape == (0,) and r.mode_energies.shape == (0, 8) and r.chaos["t"].size == 10
+    s = chaos(fputlab.Lattice(8, 0.25), 50.0, out, checkpoint=ck, n_samples=10)
+    assert s.status == "completed" and fputlab.load(out).chaos["t"].size == 10
+
+
+def test_files_with_fixed_length_strings_still_resume(tmp_path):
+    """fputlab 0.1 wrote fixed-length string attributes: the C reader takes both kinds."""
+    import h5py
+    import numpy as np
+    from fputlab.io import simulate_to_file as sim
+    out, ck = tmp_path / "r.h5", tmp_path / "r.ck"
+    lat = fputlab.Lattice(8, 0.25, "nonlinear", tau=10.0, seed=3)
+    sim(lat, 5.0, out, checkpoint=ck, sample_every=0.5)
+    with h5py.File(out, "r+") as f:
+        for k, v in list(f.attrs.items()):
+            if isinstance(v, str):
+                del f.attrs[k]
+                f.attrs.create(k, np.bytes_(v.encode() or b"\0"))
+        assert isinstance(f.attrs["method"], bytes)
+    s = sim(lat, 10.0, out, checkpoint=ck, sample_every=0.5)
+    assert s.status == "completed" and fputlab.load(out).t.size == 21

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import signal
+import stat
 import time
 from dataclasses import dataclass
 
@@ -13,6 +14,7 @@ import numpy as np
 
 from .. import _lowlevel as ll
 from .._errors import check, last_error
+from .._validate import _path
 from ..integrate import method_info
 from ..lattice import Lattice
 
@@ -27,13 +29,15 @@ def _RunInfo(lattice: Lattice, kind: str, method: str, dt: float, rtol: float, a
     # as the checkpoint records them: the options the method actually uses, NaN for the others
     adaptive = method_info(method)["adaptive"]
     nan = float("nan")
+    # a homogeneous chain has no disorder: no tau, seed or kind in its files (NaN, -1 and ""
+    # are "not written")
+    ordered = lattice.model == "homogeneous"
     return ll.RunInfo(
         kind=kind, method=method, dt=nan if adaptive else dt,
         rtol=rtol if adaptive else nan, atol=atol if adaptive else nan, t0=t0, n_dev=n_dev,
-        tau=float("nan") if lattice.tau is None else lattice.tau,
-        seed=-1 if lattice.seed is None else int(lattice.seed),
-        disorder=lattice.disorder or ("user" if lattice.tau is None and
-                                      lattice.model != "homogeneous" else ""),
+        tau=nan if ordered or lattice.tau is None else lattice.tau,
+        seed=-1 if ordered or lattice.seed is None else int(lattice.seed),
+        disorder="" if ordered else (lattice.disorder if lattice.tau is not None else "user"),
         store_states=int(bool(store_states)), chunk_rows=chunk_rows)
 
 
@@ -61,7 +65,7 @@ class ResultsFile:
     """
 
     def __init__(self, path, lattice: Lattice, info: ll.RunInfo, *, resume_from=None):
-        self.path, self.lattice, self._info = os.fspath(path), lattice, info
+        self.path, self.lattice, self._info = _path(path, "path"), lattice, info
         self._h = ll.ResultsHandle(self.path, lattice._h, info, resume_from)
 
     @property
@@ -115,7 +119,7 @@ def write_checkpoint(path, integ_handle: ll.IntegratorHandle, info: ll.RunInfo, 
     OSError
         The checkpoint cannot be written.
     """
-    ll.checkpoint_write(path, integ_handle, info, np.ascontiguousarray(extra, dtype=np.float64),
+    ll.checkpoint_write(_path(path, "path"), integ_handle, info, np.ascontiguousarray(extra, dtype=np.float64),
                         results._h if results is not None else None)
 
 
@@ -147,7 +151,7 @@ def load_checkpoint(path, integ_handle: ll.IntegratorHandle, info: ll.RunInfo,
     OSError
         The checkpoint is unreadable or corrupt.
     """
-    return ll.checkpoint_load(path, integ_handle, info, max_extra)
+    return ll.checkpoint_load(_path(path, "path"), integ_handle, info, max_extra)
 
 
 def checkpoint_time(path) -> tuple[float, int]:
@@ -170,7 +174,7 @@ def checkpoint_time(path) -> tuple[float, int]:
     OSError
         The checkpoint is unreadable or corrupt.
     """
-    return ll.checkpoint_peek(path)
+    return ll.checkpoint_peek(_path(path, "path"))
 
 
 def _same_file(a, b) -> bool:
@@ -205,18 +209,28 @@ def _describe_existing(path) -> str:
         return f"{size} bytes, not a readable HDF5 file"
 
 
+def _regular_or_absent(path: str, name: str) -> None:
+    """An output is a regular file or nothing yet: a device, FIFO or socket (/dev/null, a
+    pipe) cannot hold an HDF5 file, and writing to one fails late or blocks."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
+        raise ValueError(f"{name}: {path!r} is not a regular file (a device, FIFO or socket "
+                         "cannot hold an HDF5 file)")
+
+
 def _check_output_paths(out, checkpoint, resume: bool, overwrite: bool) -> bool:
     """Refuse output paths that would destroy data, before anything is written. Returns whether
     the run resumes from `checkpoint`."""
-    out = os.fspath(out)
-    if not out:
-        raise ValueError("out: empty file name")
+    out = _path(out, "out")
     if os.path.isdir(out):
         raise ValueError(f"out: {out!r} is a directory, not a results file")
+    _regular_or_absent(out, "out")
     if checkpoint is not None:
-        checkpoint = os.fspath(checkpoint)
-        if not checkpoint:
-            raise ValueError("checkpoint: empty file name")
+        checkpoint = _path(checkpoint, "checkpoint")
+        _regular_or_absent(checkpoint, "checkpoint")
         if _same_file(out, checkpoint):
             raise ValueError(f"checkpoint: {checkpoint!r} is the results file itself (out); "
                              "give the checkpoint its own name")
@@ -399,9 +413,11 @@ def load(path, *, as_xarray: bool = False):
         Not a readable HDF5 file, or damaged data (checksums).
     """
     import h5py
-    path = os.fspath(path)
+    path = _path(path, "path")
     if not os.path.exists(path):
         raise FileNotFoundError(f"path: no such file {path!r}")
+    if not stat.S_ISREG(os.stat(path).st_mode):   # a FIFO would block h5py's open for ever
+        raise ValueError(f"path: {path!r} is not a regular file (an HDF5 file is one)")
     try:
         f = h5py.File(path, "r")
     except OSError as err:
@@ -414,9 +430,13 @@ def load(path, *, as_xarray: bool = False):
                 raise ValueError(f"{path} is not an fputlab results file "
                                  f"(schema {attrs.get('schema')!r})")
             v = _dataset(f, "v", path, 1)
-            t = _dataset(f, "t", path, 1)
-            energy = _dataset(f, "energy", path, 1, rows=t.size)
-            mode_energies = _dataset(f, "mode_energies", path, 2, cols=v.size, rows=t.size)
+            if attrs.get("kind") == "chaos" and "t" not in f:
+                # a chaos file keeps every sample in /chaos: no empty orbit series at the root
+                t, energy, mode_energies = np.empty(0), np.empty(0), np.empty((0, v.size))
+            else:
+                t = _dataset(f, "t", path, 1)
+                energy = _dataset(f, "energy", path, 1, rows=t.size)
+                mode_energies = _dataset(f, "mode_energies", path, 2, cols=v.size, rows=t.size)
             states = _dataset(f, "states", path, 2, rows=t.size, required=False)
             if states is not None and states.shape[1] % (2 * v.size):
                 raise ValueError(f"{path}: dataset 'states' has {states.shape[1]} columns, not a "

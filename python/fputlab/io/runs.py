@@ -16,7 +16,7 @@ import numpy as np
 from .. import _lowlevel as ll
 from .._arrays import as_float_array
 from .._errors import FputlabError, last_error
-from .._validate import C_LONG, C_U64, _int, _positive_real, _real
+from .._validate import C_LONG, _int, _path, _positive_real, _real, _seed
 from ..integrate import Integrator, _compensated_sums, check_steps, method_info
 from ..lattice import Lattice
 from .files import (ResultsFile, _check_output_paths, _RunInfo, _verify_resume,
@@ -399,7 +399,7 @@ def simulate_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yosh
     else:
         results = ResultsFile(out, lattice, info)
     seg = math.inf if adaptive else max_steps_per_segment * dt
-    summary = RunSummary("completed", integ.t, 0, resumed, 0, path=os.fspath(out))
+    summary = RunSummary("completed", integ.t, 0, resumed, 0, path=_path(out, "out"))
     run = _SimulateRun(integ, info, results, summary, every, t_end, seg)
     return _drive(run, results, summary, checkpoint=checkpoint, every_steps=k_steps,
                   every_seconds=k_seconds, progress=progress, total=t_end,
@@ -500,7 +500,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
         t_end, renorm_interval=_real(renorm_interval, "renorm_interval"),
         n_samples=_int(n_samples, "n_samples"), n_dev=_int(n_dev, "n_dev"),
         sali_threshold=_real(sali_threshold, "sali_threshold"),
-        stop_when_chaotic=int(bool(stop_when_chaotic)), seed=_int(seed, "seed", C_U64))
+        stop_when_chaotic=int(bool(stop_when_chaotic)), seed=_seed(seed))
     c = ll.ChaosHandle(lattice._h, method, iopt, 0.0, orbit, None, copt)
     ih = c.integrator()
     info = _RunInfo(lattice, "chaos", method, iopt.dt, iopt.rtol, iopt.atol, 0.0, copt.n_dev)
@@ -527,7 +527,7 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
         results = ResultsFile(out, lattice, info)
     seg = segment if segment is not None else (
         renorm_interval * max(1, round(1e5 * (dt or ll.DT) / renorm_interval)))
-    summary = RunSummary("completed", ih.time(), 0, resumed, 0, path=os.fspath(out))
+    summary = RunSummary("completed", ih.time(), 0, resumed, 0, path=_path(out, "out"))
     run = _ChaosRun(c, info, results, summary, settings, copt.n_samples, seg)
     return _drive(run, results, summary, checkpoint=checkpoint, every_steps=k_steps,
                   every_seconds=k_seconds, progress=progress, total=t_end, desc=f"chaos N={N}")

@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import _lowlevel as ll
 from .._arrays import as_float_array
-from .._validate import _int, _real
+from .._validate import _int, _real, _size
 from ..lattice import Lattice, _model_code
 
 
@@ -35,8 +35,10 @@ def frequencies(N: int) -> tuple[float, float]:
     ------
     TypeError
         N is not an integer.
+    ValueError
+        N < 2.
     """
-    N = _int(N, "N")
+    N = _size(N)
     return 2.0 * math.sin(math.pi / (2 * (N + 1))), 2.0 * math.sin(math.pi / (N + 1))
 
 
@@ -70,7 +72,7 @@ def r1_squared(N: int) -> float:
     float
         (N + 1)/8.
     """
-    return (_int(N, "N") + 1) / 8.0
+    return (_size(N) + 1) / 8.0
 
 
 def _tilde_scales(N: int) -> tuple[float, float]:

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._display import ResultMixin
-from .._validate import _finite_real
+from .._validate import _finite_real, _size
 from .coefficients import r1_squared
 from .modal import ModalRun
 
@@ -106,6 +106,7 @@ def envelope_run(A_tilde: float, B_tilde: float, T_end: float, *, q0=None, N: in
     """
     A, B = _finite_real(A_tilde, "A_tilde"), _finite_real(B_tilde, "B_tilde")
     T_end, dT = _finite_real(T_end, "T_end"), _finite_real(dT, "dT")
+    N = _size(N)
     if dT <= 0:
         raise ValueError(f"dT must be > 0 (got {dT})")
     if q0 is None:

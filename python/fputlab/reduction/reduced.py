@@ -9,6 +9,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import _finite_real
+
+
+def _r1sq(value) -> float:
+    """r_1^2 = |q_1(0)|^2 of the initial state: finite and > 0 (it is (N+1)/8 for the paper's)."""
+    r = _finite_real(value, "r1sq")
+    if r <= 0:
+        raise ValueError(f"r1sq must be > 0 (got {r:g})")
+    return r
 from .coefficients import r1_squared
 from .envelope import envelope_run
 
@@ -59,7 +67,7 @@ class ReducedSystem:
         if self.A == 0 or self.B == 0:
             raise ValueError("A_tilde and B_tilde must be non-zero (Eq. deltaequi divides by both)")
         self.k = (self.A - self.B) / self.S
-        self.r1sq = r1_squared(N) if r1sq is None else _finite_real(r1sq, "r1sq")
+        self.r1sq = r1_squared(N) if r1sq is None else _r1sq(r1sq)
         self.C = self.r1sq * (1.0 - self.k) if C is None else _finite_real(C, "C")
 
     def __repr__(self) -> str:
@@ -180,6 +188,7 @@ def equilibrium_map(A_tilde, B_tilde, r1sq: float = r1_squared(64)) -> dict:
         is well defined (``well_defined1``, ``well_defined2``) and where they exist
         (``exists``; NaN values where Eq. (equicrit) fails).
     """
+    r1sq = _r1sq(r1sq)
     A, B = np.broadcast_arrays(np.asarray(A_tilde, float), np.asarray(B_tilde, float))
     S = A + B
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -215,6 +224,7 @@ def bifurcation_curves(A_tilde, r1sq: float = r1_squared(64)) -> dict:
         ``blue``: existence, 1 + 12 A~B~r1^2 = 0; ``red``: centre/saddle of Delta_2,
         1 - 4 A~B~r1^2 = 0; ``black``: A~ + B~ = 0.
     """
+    r1sq = _r1sq(r1sq)
     A = np.asarray(A_tilde, dtype=float)
     with np.errstate(divide="ignore"):
         return {"blue": -1.0 / (12.0 * A * r1sq), "red": 1.0 / (4.0 * A * r1sq), "black": -A}

@@ -11,8 +11,8 @@ import numpy as np
 
 from .. import _lowlevel as ll
 from .._display import ResultMixin
-from .._arrays import as_float_array
-from .._validate import C_U64, _int, _real
+from .._arrays import as_float_array, check_memory
+from .._validate import C_U64, _int, _real, _size
 from ..lattice import DISORDERS, _model_code
 from .coefficients import _tilde_scales, quadratic_forms
 
@@ -187,9 +187,11 @@ def realisation_quadratics(N: int = 64, alpha: float = 0.25, R: int = 100, *, se
     ValueError
         R < 1, a seed out of range or an unknown disorder kind.
     """
-    N, R = _int(N, "N"), _int(R, "R")
+    N, R = _size(N), _int(R, "R")
     if R < 1:
         raise ValueError(f"R must be >= 1 (got {R})")
+    # z, z^2 and the products (R x N each) and the forms (R x 6 x 3): before any allocation
+    check_memory(8.0 * R * (4 * N + 40), f"{R} realisations of N = {N}")
     seeds = np.arange(_int(seed0, "seed0", C_U64), _int(seed0, "seed0", C_U64) + R)
     z = _draws(N, seeds, kind)
     diag, off = quadratic_forms(N, alpha)
@@ -266,12 +268,14 @@ def ensemble_statistics(tau, N: int = 64, alpha: float = 0.25, R: int = 100, *, 
     ValueError
         R < 1, tau not 1-D finite and >= 0, or an unknown disorder kind or model.
     """
-    N, R = _int(N, "N"), _int(R, "R")
+    N, R = _size(N), _int(R, "R")
     if R < 1:
         raise ValueError(f"R must be >= 1 (got {R})")
     taus = as_float_array(tau, "tau")
     if taus.ndim != 1 or not np.all(np.isfinite(taus)) or np.any(taus < 0):
         raise ValueError("tau must be a 1-D array of finite values >= 0")
+    check_memory(8.0 * R * (N + 2 * taus.size), f"{R} realisations of N = {N} at {taus.size} "
+                 "tolerances")
     z = _draws(N, range(_int(seed0, "seed0", C_U64), _int(seed0, "seed0", C_U64) + R), kind)
     code, alpha = _model_code(model), _real(alpha, "alpha")
     sA, sB = _tilde_scales(N)
@@ -368,6 +372,13 @@ def critical_tolerance(N: int = 64, alpha: float = 0.25, R: int = 100, *, seed0:
         ``per_realisation`` (each realisation's own root).
     """
     taus = np.linspace(0.0, 20.0, 41) if tau is None else as_float_array(tau, "tau")
+    # a quadratic through fewer than three distinct tolerances is not determined (numpy's
+    # fit then fails with an SVD error or silently picks one of infinitely many)
+    if taus.ndim != 1 or np.unique(taus).size < 3:
+        raise ValueError(f"tau: the quadratic fit needs at least 3 distinct tolerances "
+                         f"(got {np.unique(taus).size})")
+    if not np.all(np.isfinite(taus)) or np.any(taus < 0):
+        raise ValueError("tau: tolerances must be finite and >= 0 (percent)")
     ens = ensemble_statistics(taus, N, alpha, R, seed0=seed0, kind=kind)
     fit_A, sse_A = quadratic_fit(taus, ens.A_mean)
     fit_B, sse_B = quadratic_fit(taus, ens.B_mean)
