@@ -238,4 +238,9 @@ void fpl_kernel_anharmonic_tangent(const fpl_lattice *lat, fpl_work *work, const
 
 int fpl_is_finite_array(const double *a, long len, long *first_bad);
 
+/* Replace the integrator's n_dev deviation vectors by w (n_dev x 2N, row-major; the caller
+ * checked it finite), with the back end's reset as fpl_integrator_transform_deviations: how the
+ * spectrum puts its orthonormal Q in place without the round-off of a transformation matrix. */
+int fpl_integrator_set_deviations(fpl_integrator *h, const double *w);
+
 #endif
