@@ -102,6 +102,7 @@ struct fpl_spectrum {
     int k;                /* exponents */
     long len;             /* 2N */
     double t0, T, t_first;
+    double dt;            /* the step of a fixed-step method; 0 for an adaptive one */
     long n_renorm;        /* renormalisations up to t_end */
     long m;               /* renormalisations done */
     int next;             /* next log-spaced sample index */
@@ -110,6 +111,7 @@ struct fpl_spectrum {
     double *logsum;       /* k: sum of ln R_ii */
     double *y;            /* the state, 2N (1 + k) */
     double *a, *v, *r;    /* QR scratch: k x 2N, k x 2N, k x k */
+    double *rinv;         /* k x k: the map R^-1 for a renormalisation between grid points */
 };
 
 void fpl_spectrum_free(fpl_spectrum **sp)
@@ -122,6 +124,7 @@ void fpl_spectrum_free(fpl_spectrum **sp)
     free(s->a);
     free(s->v);
     free(s->r);
+    free(s->rinv);
     free(s);
     *sp = NULL;
 }
@@ -183,10 +186,12 @@ int fpl_spectrum_create(const fpl_lattice *lattice, const char *method,
     int st = check_options(opt, t0, len);
     if (st) return st;
     const int k = opt->n_exponents ? opt->n_exponents : (int)len;
+    double step = 0.0;
     {
         int order = 0, adaptive = 0;
         if ((st = fpl_method_info(method, &order, &adaptive))) return st;
         const double dt = integrator_options ? integrator_options->dt : 0.01;
+        step = adaptive ? 0.0 : dt;
         if (!adaptive && opt->renorm_interval < dt * (1 - 1e-12))
             return fpl_error(NULL, FPL_ERR_ARG, "renorm_interval = %g is smaller than the step "
                              "dt = %g (renormalise at most once per step)", opt->renorm_interval,
@@ -207,7 +212,9 @@ int fpl_spectrum_create(const fpl_lattice *lattice, const char *method,
     s->a = malloc(sizeof(double) * kl);
     s->v = malloc(sizeof(double) * kl);
     s->r = malloc(sizeof(double) * (size_t)k * (size_t)k);
-    if (!s->logsum || !s->y || !s->a || !s->v || !s->r) {
+    s->rinv = malloc(sizeof(double) * (size_t)k * (size_t)k);
+    s->dt = step;
+    if (!s->logsum || !s->y || !s->a || !s->v || !s->r || !s->rinv) {
         fpl_spectrum_free(&s);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (spectrum of %d exponents, N = %d)",
                          k, lattice->n);
@@ -280,6 +287,31 @@ static double renorm_time(const fpl_spectrum *s, long m)
     return m == s->n_renorm ? s->opt.t_end : s->t0 + (double)m * s->opt.renorm_interval;
 }
 
+/* Give the integrator the orthonormal vectors Q of time t. On the grid (or for an adaptive
+ * method, which stops at t) they replace its deviation vectors. Between grid points of a
+ * fixed-step method its state is the grid point t_g before t (t was reached by a partial step
+ * from a copy), where the deviation vectors W_g satisfy Phi W_g = W(t) = Q R: they become
+ * W_g R^-1, which the tangent map carries to Q (a linear map commutes with it). */
+static int put_back(fpl_spectrum *s, double t)
+{
+    if (!(s->dt > 0.0) || !(t - fpl_integrator_time(s->h) > 1e-9 * s->dt))
+        return fpl_integrator_set_deviations(s->h, s->y + s->len);
+    const int k = s->k;
+    const double *r = s->r;
+    /* X = R^-1 (upper triangular) by back substitution, column by column; then
+     * q_i = sum_j w_j X_ji, i.e. m[i][j] = X_ji */
+    double *m = s->rinv;
+    memset(m, 0, sizeof(double) * (size_t)k * (size_t)k);
+    for (int c = 0; c < k; c++) {
+        for (int i = c; i >= 0; i--) {
+            double acc = i == c ? 1.0 : 0.0;
+            for (int j = i + 1; j <= c; j++) acc -= r[(size_t)i * k + j] * m[(size_t)c * k + j];
+            m[(size_t)c * k + i] = acc / r[(size_t)i * k + i];
+        }
+    }
+    return fpl_integrator_transform_deviations(s->h, m);
+}
+
 int fpl_spectrum_advance(fpl_spectrum *s, double t_until, double *t_out, double *history_out)
 {
     if (!s) return fpl_error(NULL, FPL_ERR_ARG, "spectrum: NULL handle");
@@ -301,7 +333,7 @@ int fpl_spectrum_advance(fpl_spectrum *s, double t_until, double *t_out, double 
         }
         if (st) return st;
         if ((st = orthonormalise(s, t))) return st;
-        if ((st = fpl_integrator_set_deviations(s->h, s->y + s->len))) return st;
+        if ((st = put_back(s, t))) return st;
         for (int i = 0; i < k; i++) s->logsum[i] += log(s->r[(size_t)i * k + i]);
         s->m = m;
         s->res.n_renorm = m;
@@ -349,7 +381,9 @@ int fpl_spectrum_restore(fpl_spectrum *s, const double *acc)
                          "(renormalisation %g of %ld, sample %g of %d)", acc[0], s->n_renorm,
                          acc[2], s->opt.n_samples);
     const double t = renorm_time(s, (long)acc[0]);
-    if (fpl_integrator_time(s->h) != t)
+    /* a fixed-step integrator is at the grid point at or before t */
+    const double lag = t - fpl_integrator_time(s->h);
+    if (s->dt > 0.0 ? !(lag >= -1e-9 * s->dt && lag < s->dt * (1 + 1e-9)) : lag != 0.0)
         return fpl_error(NULL, FPL_ERR_ARG, "spectrum accumulators are for t = %.17g, the "
                          "integrator is at t = %.17g (restore the integrator from the same "
                          "checkpoint first)", t, fpl_integrator_time(s->h));
