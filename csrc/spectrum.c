@@ -251,6 +251,13 @@ int fpl_spectrum_create(const fpl_lattice *lattice, const char *method,
 
 fpl_integrator *fpl_spectrum_integrator(fpl_spectrum *s) { return s ? s->h : NULL; }
 
+int fpl_spectrum_state(const fpl_spectrum *s, double *y)
+{
+    if (!s || !y) return fpl_error(NULL, FPL_ERR_ARG, "spectrum/y: NULL pointer");
+    memcpy(y, s->y, sizeof(double) * (size_t)s->len * (size_t)(s->k + 1));
+    return FPL_OK;
+}
+
 int fpl_spectrum_done(const fpl_spectrum *s) { return s ? s->done : 1; }
 
 int fpl_spectrum_get_result(const fpl_spectrum *s, fpl_spectrum_result *result)

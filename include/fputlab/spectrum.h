@@ -79,6 +79,10 @@ FPL_API int fpl_spectrum_exponents(const fpl_spectrum *spectrum, double *exponen
  * before the first): W(t_m) = Q(t_m) R with Q the deviation vectors now held by the integrator.
  * What the backward iteration of covariant Lyapunov vectors (Ginelli et al. 2007) needs. */
 FPL_API int fpl_spectrum_last_r(const fpl_spectrum *spectrum, double *r);
+/* The state at the last renormalisation (y0 and the orthonormalised w0 before the first):
+ * the orbit, then the k orthonormal vectors Q (length 2N (1 + k)). Unlike the integrator's
+ * state, this is at the renormalisation time also between grid points of a fixed-step method. */
+FPL_API int fpl_spectrum_state(const fpl_spectrum *spectrum, double *y);
 FPL_API fpl_integrator *fpl_spectrum_integrator(fpl_spectrum *spectrum);
 /* Number of accumulators of fpl_spectrum_save: FPL_SPECTRUM_N_COUNTERS + k (at most
  * FPL_CHECKPOINT_MAX_EXTRA for k <= 2N <= 8000). */

@@ -1,5 +1,5 @@
-"""Chaos indicators: maximum Lyapunov exponent lambda(t), SALI(t), GALI_k(t), classification of
-orbits, and the chaotic fraction over disorder realisations (paper Sec. 5, Figs. 11-14)."""
+"""Chaos indicators: maximum Lyapunov exponent lambda(t), SALI(t), GALI_k(t), MEGNO <Y>(t),
+classification of orbits, and the chaotic fraction over disorder realisations (paper Sec. 5, Figs. 11-14)."""
 from __future__ import annotations
 
 import inspect
@@ -19,6 +19,9 @@ from ._validate import C_U64, _int, _real
 from .chaos_batch import BATCH_METHODS, lyapunov_batch
 from .integrate import method_info
 from .lattice import Lattice
+from .spectrum import (CLVResult, SpectrumResult, covariant_lyapunov_vectors,  # noqa: F401
+                       covariant_vectors_from_qr, inverse_participation_ratio,
+                       kaplan_yorke_dimension, ks_entropy, lyapunov_spectrum)
 
 
 #: The default integrator of chaos ensembles (chaotic_fraction, sweeps, the study behind
@@ -140,7 +143,10 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     Returns
     -------
     ChaosResult
-        ``t``, ``mle``, ``sali``, ``gali`` at the sample times, and whether and when the orbit
+        ``t``, ``mle``, ``sali``, ``gali`` and ``megno`` (MEGNO <Y>(t), Cincotta & Simó 2000:
+        -> 2 on a quasi-periodic orbit, ~ λt/2 on a chaotic one; from the first deviation
+        vector's growth, trapezoid rule on the renormalisation grid, so a `renorm_interval`
+        well below the orbit's periods) at the sample times, and whether and when the orbit
         was found chaotic. A blow-up ends the run cleanly: ``blew_up``, ``t_blowup`` and
         ``message`` say when and why, and the samples before it are kept. A numerical failure
         (not a blow-up) also returns, with ``completed`` False and the reason in ``message``.
@@ -173,13 +179,13 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     co = _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sali_threshold,
                         stop_when_chaotic, seed, blowup_stretch)
     S = max(co.n_samples, 1)
-    check_memory(8.0 * (4 * S + 2 * N * (n_dev + 2)), f"{S} chaos samples (N = {N}, n_dev = {n_dev})")
-    t, mle, sali, gali = (np.full(S, np.nan) for _ in range(4))
+    check_memory(8.0 * (5 * S + 2 * N * (n_dev + 2)), f"{S} chaos samples (N = {N}, n_dev = {n_dev})")
+    t, mle, sali, gali, megno = (np.full(S, np.nan) for _ in range(5))
     res = ll.chaos_result()
     interrupted = False
     try:
         status = _run_with_progress(lattice, method, io, _real(t0, "t0"), y, w, co,
-                                    (t, mle, sali, gali), res, progress)
+                                    (t, mle, sali, gali, megno), res, progress)
         message = last_error() if status != 0 else ""
     except KeyboardInterrupt:            # keep what was computed (Interrupted.result)
         interrupted, status, message = True, 0, ""
@@ -190,7 +196,7 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
                       params={"N": N, "model": lattice.model, "tau": lattice.tau,
                               "seed": lattice.seed, "t_end": t_end, "dt": io.dt,
                               "renorm_interval": co.renorm_interval},
-                      blew_up=bool(res.blew_up), t_blowup=res.t_blowup)
+                      blew_up=bool(res.blew_up), t_blowup=res.t_blowup, megno=megno[:k])
     if interrupted:
         out.completed, out.message = False, f"interrupted (Ctrl-C) at t = {res.t_final:.10g}"
         raise Interrupted(out.message, out)

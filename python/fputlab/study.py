@@ -226,7 +226,8 @@ def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: s
 
 # ---- batched pieces: the orbits of one N in the vector lanes (fputlab.chaos_batch) -----------
 # fpl_chaos_save accumulators: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
-# t_final, done, blew_up, t_blowup, completed, t_pending; a batch lane (fpl_chaos_batch_save):
+# t_final, done, blew_up, t_blowup, completed, t_pending, MEGNO's ell_int, y_int, y_prev, megno;
+# a batch lane (fpl_chaos_batch_save):
 # logsum, next, pending, n_samples, t_final, mle, sali, gali, chaotic, t_chaotic, blew_up,
 # t_blowup, blowup_reason, event_index, steps, done, running. A lane computes exactly what
 # fpl_chaos computes for its orbit, so an orbit file moves in and out of a lane losslessly.
@@ -248,7 +249,10 @@ def _orbit_from_lane(lane, renorm_interval):
     return np.array([round(t_final / renorm_interval), lane[0], lane[1], lane[3],
                      float(chaotic), lane[9] if chaotic else math.nan, lane[5], lane[6], lane[7],
                      t_final, float(done), float(blew_up), lane[11],
-                     float(done and not blew_up), t_pending])
+                     float(done and not blew_up), t_pending,
+                     # MEGNO's integrals: the lanes do not compute MEGNO, so an orbit that ran
+                     # in them has none (NaN stays NaN if it continues alone)
+                     math.nan, math.nan, math.nan, math.nan])
 
 
 def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,

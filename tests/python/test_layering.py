@@ -17,7 +17,8 @@ LAYERS = [
     ("low level", {"_lowlevel", "_pacing"}),
     ("model", {"lattice", "modes"}),
     ("integrate", {"integrate"}),
-    ("analysis", {"analysis", "chaos", "_chaos_result", "chaos_batch", "blowup", "reduction"}),
+    ("analysis", {"analysis", "chaos", "_chaos_result", "chaos_batch", "blowup", "reduction",
+                  "spectrum"}),
     ("files and ensembles", {"io", "ensemble", "study"}),
     ("plots and figures", {"plotting", "figures", "figures_reduction", "demo"}),
     ("interface", {"cli", "__main__", ""}),       # "": the package itself (fputlab/__init__.py)
