@@ -19,21 +19,40 @@ void fpl_spectrum_options_init(fpl_spectrum_options *opt)
     opt->seed = 1;
 }
 
+/* sum a_i b_i with four partial sums: independent chains (a single running sum waits for each
+ * addition, and the compiler may not reorder it) */
+static inline double dot(const double *restrict a, const double *restrict b, long n)
+{
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    long i = 0;
+    for (; i + 4 <= n; i += 4) {
+        s0 += a[i] * b[i];
+        s1 += a[i + 1] * b[i + 1];
+        s2 += a[i + 2] * b[i + 2];
+        s3 += a[i + 3] * b[i + 3];
+    }
+    for (; i < n; i++) s0 += a[i] * b[i];
+    return (s0 + s1) + (s2 + s3);
+}
+
+static inline void axpy(double a, const double *restrict x, double *restrict y, long n)
+{
+    for (long i = 0; i < n; i++) y[i] += a * x[i];
+}
+
 /* Householder QR of the k columns of A (column c at a + c*len, overwritten) into q (k x len) and
  * r (k x k, row-major) with r_ii >= 0; v is k x len scratch for the reflectors. Returns the
  * first column that is zero after the projections (rank deficiency), or -1.
  * Each reflector H_j = I - 2 v_j v_j^T (|v_j| = 1, v_j zero above j) maps column j onto
  * alpha e_j with alpha = -sign(a_jj) |a_j|, which never cancels; the signs are then moved
  * from R to Q so that R has a positive diagonal (W = (Q D)(D R), D = diag(+-1)). */
-static int householder_qr(double *a, int k, long len, double *q, double *r, double *v)
+FPL_HOT static int householder_qr(double *a, int k, long len, double *q, double *r, double *v)
 {
     int bad = -1;
     memset(r, 0, sizeof(double) * (size_t)k * (size_t)k);
     for (int j = 0; j < k; j++) {
         double *aj = a + (size_t)j * len, *vj = v + (size_t)j * len;
-        double s = 0.0;
-        for (long i = j; i < len; i++) s += aj[i] * aj[i];
-        const double norm = sqrt(s);
+        const double norm = sqrt(dot(aj + j, aj + j, len - j));
         for (long i = 0; i < j; i++) vj[i] = 0.0;
         if (!(norm > 0.0)) {         /* zero column: no reflection, R_jj = 0 */
             if (bad < 0) bad = j;
@@ -44,16 +63,12 @@ static int householder_qr(double *a, int k, long len, double *q, double *r, doub
         const double alpha = aj[j] >= 0.0 ? -norm : norm;
         for (long i = j; i < len; i++) vj[i] = aj[i];
         vj[j] -= alpha;
-        double vs = 0.0;
-        for (long i = j; i < len; i++) vs += vj[i] * vj[i];
-        const double inv = 1.0 / sqrt(vs);
+        const double inv = 1.0 / sqrt(dot(vj + j, vj + j, len - j));
         for (long i = j; i < len; i++) vj[i] *= inv;
         r[(size_t)j * k + j] = alpha;
         for (int c = j + 1; c < k; c++) {
-            double *ac = a + (size_t)c * len, d = 0.0;
-            for (long i = j; i < len; i++) d += vj[i] * ac[i];
-            d *= 2.0;
-            for (long i = j; i < len; i++) ac[i] -= d * vj[i];
+            double *ac = a + (size_t)c * len;
+            axpy(-2.0 * dot(vj + j, ac + j, len - j), vj + j, ac + j, len - j);
             r[(size_t)j * k + c] = ac[j];
         }
     }
@@ -64,10 +79,7 @@ static int householder_qr(double *a, int k, long len, double *q, double *r, doub
         qi[i] = 1.0;
         for (int j = i; j >= 0; j--) {
             const double *vj = v + (size_t)j * len;
-            double d = 0.0;
-            for (long c = j; c < len; c++) d += vj[c] * qi[c];
-            d *= 2.0;
-            for (long c = j; c < len; c++) qi[c] -= d * vj[c];
+            axpy(-2.0 * dot(vj + j, qi + j, len - j), vj + j, qi + j, len - j);
         }
     }
     for (int j = 0; j < k; j++) {
