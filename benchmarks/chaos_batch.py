@@ -3,7 +3,7 @@
 For each N in 4, 8, 16, 32, 64 and R in 1, 4, 8, 30: R disorder realisations of model 3
 (tau = 10 %, seeds 1..R, mode-1 initial state, 2 deviation vectors, renormalisation every 1,
 mLE + SALI + GALI bookkeeping) run to t = T
-  * together by fputlab.chaos_batch.lyapunov_batch (one call), and
+  * together by fputlab.chaos.batch.lyapunov_batch (one call), and
   * one after the other by fputlab.chaos.lyapunov (the single-orbit fpl_chaos path),
 in the same process, minimum of `--repeats` runs each. Reported: ns per particle-step per orbit,
 time / (steps x N x R), and the speed-up single / batch. Times are the process's CPU time (not
@@ -18,7 +18,8 @@ import time
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import fputlab  # noqa: E402
-from fputlab import chaos, chaos_batch  # noqa: E402
+from fputlab import chaos  # noqa: E402
+from fputlab.chaos import batch as chaos_batch  # noqa: E402
 
 DT = {"yoshida4": 0.01, "srkn14a6": 0.4, "aba864": 0.0625, "leapfrog": 0.005}
 

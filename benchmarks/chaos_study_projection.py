@@ -4,9 +4,9 @@
 Measured here: the CPU cost per unit of simulated time of one orbit with mLE + SALI bookkeeping
 (process time of a short run, so other load does not count), for each N and each way of running:
 Yoshida 4 at dt = 0.01 (the paper's tangent map), srkn14a6 at dt = 0.5 (the study's default) and,
-if available, the batched kernel (fputlab.chaos_batch, 30 orbits of one N in vector lanes).
+if available, the batched kernel (fputlab.chaos.batch, 30 orbits of one N in vector lanes).
 Early stop: an orbit stops when it is classified chaotic or blows up. Where decided orbits are
-known (--study DIR, a fputlab.study work directory) each orbit is charged up to the time it
+known (--study DIR, a fputlab.chaos.study work directory) each orbit is charged up to the time it
 stopped; orbits not yet decided are charged to t = 1e8 (so the projection is an upper bound).
 
 Usage: python benchmarks/chaos_study_projection.py [--study DIR] [--t-run 2e4] [--json out.json]
@@ -32,12 +32,12 @@ def cpu_per_unit(fn, t_run):
 def main():
     p = argparse.ArgumentParser(description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--study", help="a fputlab.study work directory: use its early stops")
+    p.add_argument("--study", help="a fputlab.chaos.study work directory: use its early stops")
     p.add_argument("--t-run", type=float, default=2e4, help="simulated time per measurement")
     p.add_argument("--json")
     a = p.parse_args()
     try:
-        from fputlab.chaos_batch import lyapunov_batch
+        from fputlab.chaos.batch import lyapunov_batch
     except ImportError:
         lyapunov_batch = None
     cost = {}
@@ -57,7 +57,7 @@ def main():
     # how long each orbit runs: to 1e8, or to its early stop where the study knows it
     stops = {N: [T_FULL] * R for N in NS}
     if a.study:
-        from fputlab.study import ChaosStudy
+        from fputlab.chaos.study import ChaosStudy
         study = ChaosStudy(a.study)
         for N, res in study.results().items():
             stops[N] = [(r.t_blowup if r.blew_up else r.t_final) if r is not None and

@@ -1,7 +1,7 @@
 """The ensemble engine: independent calls fn(*args) on a local process pool whose workers die
 with their parent, or on a Dask cluster, yielded as they complete (`run_calls`). Every sweep of
 fputlab runs on it: `fputlab.blowup.blowup_sweep`, `fputlab.chaos.chaotic_fraction`,
-`fputlab.ensemble.run_sweep` and `fputlab.study`. It knows nothing of lattices or
+`fputlab.ensemble.run_sweep` and `fputlab.chaos.study`. It knows nothing of lattices or
 integrators, so the analysis modules may use it."""
 from __future__ import annotations
 

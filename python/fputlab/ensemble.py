@@ -179,7 +179,7 @@ def _chaos_outcome(res) -> dict:
 
 def run_chaos_group(tasks: list, spec: SweepSpec) -> list:
     """Several chaos tasks of one (tau, N) in the batched kernel's vector lanes
-    (`fputlab.chaos_batch`): the records `run_task` gives for each, at a fraction of the cost
+    (`fputlab.chaos.batch`): the records `run_task` gives for each, at a fraction of the cost
     for small N.
 
     Parameters
@@ -208,7 +208,7 @@ def run_chaos_group(tasks: list, spec: SweepSpec) -> list:
 
 
 def _batchable(spec: SweepSpec) -> bool:
-    from .chaos_batch import BATCH_METHODS, lyapunov_batch
+    from .chaos import BATCH_METHODS, lyapunov_batch
     return spec.kind == "chaos" and spec.method in BATCH_METHODS and \
         set(dict(spec.options)) <= set(inspect.signature(lyapunov_batch).parameters)
 

@@ -178,11 +178,11 @@ QUICK_STUDY_T = 1e5
 
 def chaos_study(work_dir=None, *, full=False, t_until=None, workers=None, scheduler=None,
                 progress=True, out_dir="figures", **params):
-    """The chaos study behind Figs. 12-14 (fputlab.study.ChaosStudy: model 3, tau = 10 %,
+    """The chaos study behind Figs. 12-14 (fputlab.chaos.study.ChaosStudy: model 3, tau = 10 %,
     30 realisations, N = 4..64, t_end = 1e8), continued in `work_dir` (default
     out_dir/chaos_study) up to t_until (default 1e8 with full, else 1e5). Orbits that already
     reached t_until are not recomputed, so a second call redraws in seconds."""
-    from .study import ChaosStudy
+    from .chaos.study import ChaosStudy
     study = ChaosStudy(work_dir if work_dir is not None else os.path.join(out_dir, "chaos_study"),
                        **params)
     t_until = (study.spec.t_end if full else min(QUICK_STUDY_T, study.spec.t_end)) \

@@ -1,4 +1,4 @@
-"""fputlab.chaos_batch.lyapunov_batch: each orbit as fputlab.chaos.lyapunov computes it, blow-ups
+"""fputlab.chaos.batch.lyapunov_batch: each orbit as fputlab.chaos.lyapunov computes it, blow-ups
 never chaotic, a known chaotic orbit, early exit, bad input."""
 import math
 
@@ -7,7 +7,7 @@ import pytest
 
 import fputlab
 from fputlab import chaos
-from fputlab.chaos_batch import lyapunov_batch
+from fputlab.chaos.batch import lyapunov_batch
 
 
 def _same(a, b, rtol=1e-12):

@@ -124,5 +124,5 @@ def test_chaos_figures_from_a_resumable_study(tmp_path):
     assert len(stamps) == 150                      # 30 realisations x N = 4, 8, 16, 32, 64
     assert main(args) == 0
     assert stamps == {p.name: p.stat().st_mtime_ns for p in work.glob("orbit_*.npz")}
-    from fputlab.study import ChaosStudy
+    from fputlab.chaos.study import ChaosStudy
     assert ChaosStudy(work).reached() == 300.0

@@ -17,8 +17,7 @@ LAYERS = [
     ("low level", {"_lowlevel", "_pacing"}),
     ("model", {"lattice", "modes"}),
     ("integrate", {"integrate"}),
-    ("analysis", {"analysis", "chaos", "_chaos_result", "chaos_batch", "blowup", "reduction",
-                  "spectrum"}),
+    ("analysis", {"analysis", "chaos", "chaos_batch", "blowup", "reduction"}),
     ("files and ensembles", {"io", "ensemble", "study"}),
     ("plots and figures", {"plotting", "figures", "figures_reduction", "demo"}),
     ("interface", {"cli", "__main__", ""}),       # "": the package itself (fputlab/__init__.py)

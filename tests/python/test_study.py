@@ -1,11 +1,11 @@
-"""The chaos study (fputlab.study): the default method classifies as the paper's methods do,
+"""The chaos study (fputlab.chaos.study): the default method classifies as the paper's methods do,
 pieces resume bit for bit, a study directory is only continued with its own parameters, the
 class table counts what was reached."""
 import numpy as np
 import pytest
 
 from fputlab import Lattice, chaos
-from fputlab.study import ChaosStudy, StudySpec
+from fputlab.chaos.study import ChaosStudy, StudySpec
 
 DEFAULT = StudySpec()
 

@@ -1,5 +1,5 @@
-"""The result of a chaos-indicator run and the classification of an orbit (shared by
-`fputlab.chaos` and `fputlab.chaos_batch`, which make them; public as `fputlab.chaos.ChaosResult`,
+"""The result of a chaos-indicator run and the classification of an orbit (made by
+`fputlab.chaos.single` and `fputlab.chaos.batch`; public as `fputlab.chaos.ChaosResult`,
 `fputlab.chaos.classify_orbit` and `fputlab.chaos.CLASSES`)."""
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _lowlevel as ll
-from ._display import ResultMixin
-from ._validate import _real
+from .. import _lowlevel as ll
+from .._display import ResultMixin
+from .._validate import _real
 
 #: the classes of an orbit, exactly these (C: fpl_orbit_class)
 CLASSES = ("chaotic", "regular", "blow-up", "undecided")

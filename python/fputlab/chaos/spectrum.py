@@ -13,14 +13,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _lowlevel as ll
-from ._arrays import as_float_array, check_memory
-from ._display import ResultMixin, dataclass_repr, fmt, require_xarray, scalar_attrs, variable
-from ._errors import IntegrationError, Interrupted, check, last_error
-from ._pacing import Pacer, first_span
-from ._validate import C_U64, _int, _real
-from .integrate import method_info
-from .lattice import Lattice
+from .. import _lowlevel as ll
+from .._arrays import as_float_array, check_memory
+from .._display import ResultMixin, dataclass_repr, fmt, require_xarray, scalar_attrs, variable
+from .._errors import IntegrationError, Interrupted, check, last_error
+from .._pacing import Pacer, first_span
+from .._validate import C_U64, _int, _real
+from ..integrate import method_info
+from ..lattice import Lattice
 
 #: the C defaults of the spectrum options (fpl_spectrum_options_init)
 _S = ll.SPECTRUM_DEFAULTS
