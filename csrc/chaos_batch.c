@@ -1199,3 +1199,90 @@ int fpl_chaos_batch_restore(fpl_chaos_batch *B, const double *buf, long len)
     }
     return FPL_OK;
 }
+
+/* ---- one orbit in the single-orbit checkpoint format ---------------------------------------
+ * An orbit's state as fpl_chaos and its integrator keep it (step count, time, state with the
+ * deviation vectors, the FPL_CHAOS_N_ACCUMULATORS numbers of fpl_chaos_save), so an orbit moves
+ * between a lane and an fpl_chaos handle, or a file, without anyone outside knowing the lanes. A
+ * lane computes exactly what fpl_chaos computes for its orbit; the only bookkeeping that differs
+ * is where a lane keeps the time SALI fell below the threshold while it waits for confirmation
+ * (its t_chaotic), which fpl_chaos keeps as t_pending. */
+
+int fpl_chaos_batch_get_orbit(const fpl_chaos_batch *B, int orbit, long *steps, double *t,
+                              double *y, double *acc)
+{
+    int st = check_orbit(B, orbit);
+    if (st) return st;
+    if (!steps || !t || !y || !acc)
+        return fpl_error(NULL, FPL_ERR_ARG, "steps/t/y/accumulators: NULL pointer");
+    const fpl_chaos_batch_result *r = &B->res[orbit];
+    const int running = !r->done;
+    const int chaotic = r->chaotic != 0, pending = B->pending[orbit] != 0;
+    const double m = running ? (double)B->m : round((r->t_final - B->t0) / B->tau);
+    const double a[FPL_CHAOS_N_ACCUMULATORS] = {
+        m, B->logsum[orbit], B->next[orbit], r->n_samples, chaotic, chaotic ? r->t_chaotic : NAN,
+        r->mle, r->sali, r->gali, r->t_final, r->done != 0, r->blew_up != 0, r->t_blowup,
+        r->done && !r->blew_up, (pending || chaotic) ? r->t_chaotic : NAN,
+        /* MEGNO's integrals and value: the lanes do not compute MEGNO (NaN stays NaN if the
+         * orbit continues in an fpl_chaos handle) */
+        NAN, NAN, NAN, NAN};
+    memcpy(acc, a, sizeof a);
+    *steps = running ? B->n_steps : r->steps;
+    *t = running ? fpl_chaos_batch_time(B) : r->t_final;
+    return fpl_chaos_batch_get_state(B, orbit, y);
+}
+
+int fpl_chaos_batch_set_orbits(fpl_chaos_batch *B, const long *steps, const double *t,
+                               const double *y, const double *acc)
+{
+    if (!B) return fpl_error(NULL, FPL_ERR_ARG, "batch: NULL handle");
+    if (!steps || !t || !y || !acc)
+        return fpl_error(NULL, FPL_ERR_ARG, "steps/t/y/accumulators: NULL pointer");
+    const long lane = 2L * B->n * (B->k + 1);
+    const int NA = FPL_CHAOS_N_ACCUMULATORS;
+    long common_steps = -1;
+    double common_m = -1;
+    int n_running = 0;
+    for (int o = 0; o < B->R; o++) {
+        const double *a = acc + (size_t)o * NA;
+        if (a[10] != 0) continue;                        /* finished: keeps its result */
+        const double m = a[0];
+        if (!(m >= 0 && m <= B->n_renorm) || m != floor(m) || steps[o] < 0)
+            return fpl_error(NULL, FPL_ERR_ARG, "orbit %d: renormalisation %g / step %ld do not fit "
+                             "this run (%ld renormalisations)", o, m, steps[o], B->n_renorm);
+        const double tm = m == B->n_renorm ? B->opt.t_end : B->t0 + m * B->tau;
+        if (t[o] != tm)
+            return fpl_error(NULL, FPL_ERR_ARG, "orbit %d: accumulators are for t = %.17g, the "
+                             "state for t = %.17g", o, tm, t[o]);
+        if (n_running++ == 0) {
+            common_steps = steps[o];
+            common_m = m;
+        } else if (steps[o] != common_steps || m != common_m) {
+            return fpl_error(NULL, FPL_ERR_ARG, "orbit %d is at step %ld, the running orbits "
+                             "before it at step %ld: the running orbits of a batch share one time",
+                             o, steps[o], common_steps);
+        }
+    }
+    const long len = fpl_chaos_batch_save_size(B);
+    double *buf = malloc(sizeof(double) * (size_t)len);
+    if (!buf) return fpl_error(NULL, FPL_ERR_NOMEM, "batch: out of memory (%ld values)", len);
+    buf[0] = SAVE_MAGIC; buf[1] = B->R; buf[2] = B->n; buf[3] = B->k;
+    buf[4] = n_running ? (double)common_steps : (double)B->n_steps;
+    buf[5] = n_running ? common_m : (double)B->m;
+    buf[6] = n_running; buf[7] = B->dt;
+    double *p = buf + N_HEADER;
+    for (int o = 0; o < B->R; o++, p += N_LANE_ACC + lane) {
+        const double *a = acc + (size_t)o * NA;
+        const int chaotic = a[4] != 0, done = a[10] != 0;
+        const int pending = !chaotic && a[14] == a[14];
+        const double l[N_LANE_ACC] = {a[1], a[2], pending, a[3], a[9], a[6], a[7], a[8], chaotic,
+            chaotic ? a[5] : pending ? a[14] : NAN, a[11] != 0, a[12],
+            FPL_BATCH_BLOWUP_NONE, -1, (double)steps[o],
+            done, !done};
+        memcpy(p, l, sizeof l);
+        memcpy(p + N_LANE_ACC, y + (size_t)o * lane, sizeof(double) * (size_t)lane);
+    }
+    int st = fpl_chaos_batch_restore(B, buf, len);
+    free(buf);
+    return st;
+}

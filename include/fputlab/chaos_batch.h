@@ -136,6 +136,21 @@ FPL_API long fpl_chaos_batch_save_size(const fpl_chaos_batch *batch);
 FPL_API int fpl_chaos_batch_save(const fpl_chaos_batch *batch, double *buffer);
 FPL_API int fpl_chaos_batch_restore(fpl_chaos_batch *batch, const double *buffer, long len);
 
+/* One orbit in the single-orbit checkpoint format of fpl_chaos (fputlab/chaos.h): its integrator
+ * step count and time, its state y (2N(1 + n_dev), as fpl_chaos_batch_get_state) and the
+ * FPL_CHAOS_N_ACCUMULATORS accumulators of fpl_chaos_save. Restoring them into an fpl_chaos
+ * handle (fpl_integrator_restore, fpl_chaos_restore) created with the same arguments continues
+ * the orbit bit for bit, and so does fpl_chaos_batch_set_orbits: an orbit moves between lanes,
+ * handles and files without its reader knowing the lane layout. */
+FPL_API int fpl_chaos_batch_get_orbit(const fpl_chaos_batch *batch, int orbit, long *steps,
+                                      double *t, double *y, double *accumulators);
+/* Every orbit of the batch from that format (arrays of n_orbits steps and times, n_orbits x 2N(1 +
+ * n_dev) states, n_orbits x FPL_CHAOS_N_ACCUMULATORS accumulators). The orbits still running
+ * must share one step count and time (the lanes advance together); finished orbits keep their
+ * result (a blown-up one is reported without the criterion that ended it). */
+FPL_API int fpl_chaos_batch_set_orbits(fpl_chaos_batch *batch, const long *steps, const double *t,
+                                       const double *y, const double *accumulators);
+
 #ifdef __cplusplus
 }
 #endif

@@ -551,6 +551,22 @@ class ChaosBatchHandle(_Handle):
     def restore(self, buf: np.ndarray) -> None:
         check(lib.fpl_chaos_batch_restore(self.ptr, ptr(buf), buf.size))
 
+    def get_orbit(self, orbit: int, state_len: int) -> tuple[int, float, np.ndarray, np.ndarray]:
+        """fpl_chaos_batch_get_orbit: (steps, t, state (state_len), accumulators) of one orbit in
+        the single-orbit checkpoint format (as IntegratorHandle + ChaosHandle.save)."""
+        steps, t = ffi.new("long *"), ffi.new("double *")
+        y, acc = np.empty(state_len), np.empty(CHAOS_N_ACCUMULATORS)
+        check(lib.fpl_chaos_batch_get_orbit(self.ptr, orbit, steps, t, ptr(y), ptr(acc)))
+        return int(steps[0]), float(t[0]), y, acc
+
+    def set_orbits(self, steps, t, y: np.ndarray, acc: np.ndarray) -> None:
+        """fpl_chaos_batch_set_orbits: every orbit from the single-orbit format (steps (R,),
+        t (R,), y (R, state_len), accumulators (R, CHAOS_N_ACCUMULATORS))."""
+        st = ffi.new("long[]", [int(s) for s in steps])
+        tt = np.ascontiguousarray(t, dtype=float)
+        check(lib.fpl_chaos_batch_set_orbits(self.ptr, st, ptr(tt), ptr(np.ascontiguousarray(y)),
+                                             ptr(np.ascontiguousarray(acc))))
+
 
 class GalerkinHandle(_Handle):
     """fpl_galerkin: the lattice truncated to its first M normal modes."""

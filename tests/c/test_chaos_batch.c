@@ -489,6 +489,92 @@ static void test_bad_input(void)
     fpl_lattice_free(&d);
 }
 
+/* fpl_chaos_batch_get_orbit / set_orbits: at t = 700 every orbit leaves its lane in the
+ * single-orbit format; set into a fresh batch, the run continues bit for bit as the
+ * uninterrupted one, and each running orbit restored into its own fpl_chaos handle continues
+ * bit for bit as fpl_chaos_run of that orbit alone. */
+static void test_orbit_format(void)
+{
+    enum { R = 5, N = 8, K = 2, LANE = 2 * N * (K + 1), NA = FPL_CHAOS_N_ACCUMULATORS };
+    fpl_lattice *l[R];
+    for (int r = 0; r < R; r++) {
+        double v[N];
+        CHECK_OK(fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, 10.0, (unsigned long)r + 1, N, v));
+        CHECK_OK(fpl_lattice_create(N, 0.0, 1.0, FPL_MODEL_NONLINEAR, v, &l[r]));
+    }
+    double y0[R * 2 * N];
+    for (int i = 0; i < R * 2 * N; i++) y0[i] = (i / (2 * N) % 2 ? 1.5 : 0.05) * check_uniform();
+    fpl_chaos_batch_options bo;
+    fpl_chaos_batch_options_init(&bo);
+    bo.chaos.t_end = 3000.0;
+    bo.chaos.n_samples = NS;
+    fpl_integrator_options io;
+    fpl_integrator_options_init(&io);
+    io.dt = 0.1;
+    double m1[R * NS], m2[R * NS];
+    fpl_chaos_batch *a = NULL, *b = NULL;
+    CHECK_OK(fpl_chaos_batch_create(l, R, "srkn14a6", &io, 0.0, y0, NULL, &bo, &a));
+    CHECK_OK(fpl_chaos_batch_advance(a, bo.chaos.t_end, NULL, m1, NULL, NULL));
+    CHECK_OK(fpl_chaos_batch_create(l, R, "srkn14a6", &io, 0.0, y0, NULL, &bo, &b));
+    CHECK_OK(fpl_chaos_batch_advance(b, 700.0, NULL, m2, NULL, NULL));
+    long steps[R];
+    double t[R], y[R * LANE], acc[R * NA];
+    for (int r = 0; r < R; r++)
+        CHECK_OK(fpl_chaos_batch_get_orbit(b, r, &steps[r], &t[r], y + r * LANE, acc + r * NA));
+    CHECK(fpl_chaos_batch_get_orbit(b, R, &steps[0], &t[0], y, acc) == FPL_ERR_ARG,
+          "orbit index out of range accepted");
+    fpl_chaos_batch_free(&b);
+
+    /* the same orbits into a fresh batch */
+    CHECK_OK(fpl_chaos_batch_create(l, R, "srkn14a6", &io, 0.0, y0, NULL, &bo, &b));
+    long bad_steps[R];
+    memcpy(bad_steps, steps, sizeof steps);
+    bad_steps[R - 1] += 1;
+    CHECK(acc[(R - 1) * NA + 10] != 0 ||
+          fpl_chaos_batch_set_orbits(b, bad_steps, t, y, acc) == FPL_ERR_ARG,
+          "running orbits at different steps accepted");
+    CHECK_OK(fpl_chaos_batch_set_orbits(b, steps, t, y, acc));
+    CHECK(fpl_chaos_batch_time(b) == 700.0, "time after set_orbits %g", fpl_chaos_batch_time(b));
+    CHECK_OK(fpl_chaos_batch_advance(b, bo.chaos.t_end, NULL, m2, NULL, NULL));
+    int running = 0;
+    for (int r = 0; r < R; r++) {
+        fpl_chaos_batch_result ra, rb;
+        CHECK_OK(fpl_chaos_batch_get_result(a, r, &ra));
+        CHECK_OK(fpl_chaos_batch_get_result(b, r, &rb));
+        CHECK(ra.mle == rb.mle && ra.sali == rb.sali && ra.t_final == rb.t_final &&
+              ra.chaotic == rb.chaotic && ra.n_samples == rb.n_samples && ra.steps == rb.steps &&
+              memcmp(m1 + r * NS, m2 + r * NS, sizeof(double) * (size_t)ra.n_samples) == 0,
+              "orbit %d: continued batch differs (mle %.17g vs %.17g)", r, ra.mle, rb.mle);
+
+        /* each running orbit in its own fpl_chaos handle, against fpl_chaos_run of it alone */
+        if (acc[r * NA + 10] != 0) continue;
+        running++;
+        fpl_chaos_options so = bo.chaos;
+        double sm[NS], cm[NS];
+        fpl_chaos_result sres, cres;
+        CHECK_OK(fpl_chaos_run(l[r], "srkn14a6", &io, 0.0, y0 + r * 2 * N, NULL, &so, NULL, sm,
+                               NULL, NULL, &sres));
+        fpl_chaos *c = NULL;
+        CHECK_OK(fpl_chaos_create(l[r], "srkn14a6", &io, 0.0, y0 + r * 2 * N, NULL, &so, &c));
+        if (!c) continue;
+        CHECK_OK(fpl_integrator_restore(fpl_chaos_integrator(c), steps[r], t[r], y + r * LANE));
+        CHECK_OK(fpl_chaos_restore(c, acc + r * NA));
+        memcpy(cm, m1 + r * NS, sizeof cm);          /* the samples before t = 700 */
+        CHECK_OK(fpl_chaos_advance(c, bo.chaos.t_end, NULL, cm, NULL, NULL));
+        CHECK_OK(fpl_chaos_get_result(c, &cres));
+        CHECK(cres.mle == sres.mle && cres.sali == sres.sali && cres.steps == sres.steps &&
+              cres.n_samples == sres.n_samples &&
+              memcmp(cm, sm, sizeof(double) * (size_t)sres.n_samples) == 0,
+              "orbit %d: lane -> fpl_chaos differs from fpl_chaos_run (mle %.17g vs %.17g)", r,
+              cres.mle, sres.mle);
+        fpl_chaos_free(&c);
+    }
+    CHECK(running >= 1, "no orbit was still running at t = 700");
+    fpl_chaos_batch_free(&a);
+    fpl_chaos_batch_free(&b);
+    for (int r = 0; r < R; r++) fpl_lattice_free(&l[r]);
+}
+
 int main(void)
 {
     test_agreement();
@@ -496,6 +582,7 @@ int main(void)
     test_early_exit();
     test_blowup();
     test_checkpoint();
+    test_orbit_format();
     test_bad_input();
     return check_report("chaos_batch");
 }

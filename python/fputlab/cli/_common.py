@@ -1,0 +1,164 @@
+"""What the commands share: the lattice of a command line, checks of its options, the
+summary printed (text or JSON) and the HDF5 files of a summary."""
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+
+from .._display import dumps_strict
+
+def _lattice(a):
+    from ..lattice import Lattice
+    if a.model == "homogeneous":
+        _homogeneous_check(a)
+        return Lattice(a.N, a.alpha, a.model, beta=a.beta)
+    return Lattice(a.N, a.alpha, a.model, beta=a.beta, tau=a.tau, seed=a.seed, disorder=a.disorder)
+
+
+def _homogeneous_check(a):
+    """The homogeneous model has no disorder: a --tau given with it is refused, not ignored."""
+    taus = np.atleast_1d(np.asarray(a.tau if a.tau is not None else 0.0, dtype=float))
+    if a.model == "homogeneous" and getattr(a, "tau_given", False) and np.any(taus != 0):
+        raise ValueError(f"--tau {_g(taus.tolist())}: the homogeneous model has no disorder "
+                         "(use --model hamiltonian or nonlinear, or drop --tau)")
+
+
+def _g(v) -> str:
+    """A default as --help shows it."""
+    if isinstance(v, (list, tuple)):
+        return " ".join(_g(x) for x in v)
+    if isinstance(v, float):
+        return f"{v:.0e}".replace("e+0", "e").replace("e+", "e") if abs(v) >= 1e4 and \
+            float(f"{v:.0e}") == v else f"{v:g}"
+    return str(v)
+
+
+def _positive(a, name: str, minimum: int = 1):
+    value = getattr(a, name, None)
+    if value is not None and value < minimum:
+        raise ValueError(f"--{name.replace('_', '-')} must be >= {minimum} (got {value})")
+
+
+def _human(v) -> str:
+    """A value as a person reads it: numbers to 6 significant digits, mappings as 'key value'
+    pairs, sequences comma-separated, no Python reprs."""
+    if isinstance(v, bool) or v is None:
+        return {True: "yes", False: "no", None: "-"}[v]
+    if isinstance(v, (float, np.floating)):
+        return f"{float(v):.6g}"
+    if isinstance(v, dict):
+        if v and all(isinstance(x, dict) for x in v.values()):       # e.g. classes per N
+            return " | ".join(f"{k}: {_human(x)}" for k, x in v.items())
+        return ", ".join(f"{k} {_human(x)}" for k, x in v.items())
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return ", ".join(_human(x) for x in v)
+    return str(v)
+
+
+def _emit(summary: dict, as_json: bool):
+    if as_json:
+        print(dumps_strict(summary, indent=2))
+    else:
+        width = max((len(str(k)) for k in summary), default=0)
+        for k, v in summary.items():
+            if isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+                print(f"{k:>{width}}:")                 # a table: one row per record
+                for row in v:
+                    print(f"{'':>{width}}  {_human(row)}")
+            else:
+                print(f"{k:>{width}}: {_human(v)}")
+
+
+def _output_paths(a, *names):
+    """Refuse, before anything is written, output paths that collide with each other or an
+    existing file that --overwrite does not allow to replace. names: attribute names of a
+    (out, checkpoint, plot, work_dir); files a run resumes (checkpoint, a resumed --out) are
+    left to the run's own checks."""
+    given = [(n, getattr(a, n, None)) for n in names]
+    given = [(n, os.fspath(p)) for n, p in given if p]
+    for i, (n1, p1) in enumerate(given):
+        for n2, p2 in given[i + 1:]:
+            same = os.path.realpath(p1) == os.path.realpath(p2)
+            if not same and os.path.exists(p1) and os.path.exists(p2):
+                same = os.path.samefile(p1, p2)
+            if same:
+                raise ValueError(f"--{n2.replace('_', '-')} {p2!r} is the same file as "
+                                 f"--{n1.replace('_', '-')}: every output needs its own path")
+
+
+def _new_file(a, name: str):
+    """An output file that is written from scratch: refuse to replace an existing one unless
+    --overwrite."""
+    path = getattr(a, name, None)
+    if not path:
+        return
+    if os.path.isdir(path):
+        raise ValueError(f"--{name}: {path!r} is a directory")
+    if os.path.exists(path) and not getattr(a, "overwrite", False):
+        raise FileExistsError(f"--{name}: {path!r} exists; not overwritten (pass --overwrite to "
+                              "replace it)")
+
+
+def _write_h5(path, attrs: dict, datasets: dict):
+    import h5py
+    from .. import __version__
+    with h5py.File(path, "w") as f:
+        f.attrs["fputlab_version"] = __version__
+        for k, v in attrs.items():
+            if v is not None:
+                f.attrs[k] = v
+        for k, v in datasets.items():
+            if v is not None:
+                f.create_dataset(k, data=np.asarray(v), compression="gzip")
+
+
+def _integrator_kwargs(a) -> dict:
+    return {k: v for k, v in (("dt", a.dt), ("rtol", a.rtol), ("atol", a.atol)) if v is not None}
+
+
+def _ensemble_lattice_check(a):
+    """Ensembles draw their own lattices: options they cannot honour are refused, not ignored."""
+    if a.beta != 0.0:
+        raise ValueError("--beta: ensembles use the paper's FPUT-alpha chain (beta = 0)")
+    if a.disorder != "gaussian":
+        raise ValueError("--disorder: ensembles use the paper's Gaussian disorder")
+
+
+def _checkpoint_kwargs(a) -> dict:
+    return {"checkpoint": a.checkpoint, "checkpoint_every_steps": a.checkpoint_steps,
+            "checkpoint_every_seconds": a.checkpoint_every, "resume": not a.restart,
+            "progress": not a.json}
+
+
+def _run_summary(s) -> dict:
+    out = {"status": s.status, "t_reached": s.t_reached, "samples": s.samples,
+           "resumed_from": s.resumed_from, "checkpoints_written": s.checkpoints,
+           "message": s.message, "out": s.path}
+    if s.event:
+        out["event"] = s.event
+    out.update(s.extra)
+    return out
+
+
+def _summary_h5(path, summary: dict):
+    """A command's summary as HDF5: numbers and strings as attributes, numeric lists as datasets,
+    dicts as groups, anything else as a JSON string attribute."""
+    import h5py
+    from .. import __version__
+
+    def put(g, d):
+        for k, v in d.items():
+            if isinstance(v, dict):
+                put(g.create_group(k), v)
+            elif isinstance(v, (list, tuple, np.ndarray)):
+                try:
+                    g.create_dataset(k, data=np.asarray(v, dtype=float))
+                except (TypeError, ValueError):
+                    g.attrs[k] = json.dumps(v, default=float)
+            elif v is not None:
+                g.attrs[k] = v
+    with h5py.File(path, "w") as f:
+        f.attrs["fputlab_version"] = __version__
+        put(f, summary)
