@@ -201,9 +201,8 @@ struct fpl_chaos {
     int next;             /* next log-spaced sample index */
     int done;             /* t_end reached, stopped chaotic, or blew up */
     double t_pending;     /* SALI < threshold seen here, chaos not yet confirmed (NaN: none) */
-    double ell_int;       /* MEGNO: trapezoid integral of ell(s) = ln ||w_1(s)|| (unrenormalised) */
-    double y_int;         /* MEGNO: trapezoid integral of Y(s) */
-    double y_prev;        /* MEGNO: Y at the previous renormalisation (0 at t0) */
+    double megno_acc[3];  /* MEGNO (fpl_megno_step): the integrals of ell(s) = ln ||w_1(s)||
+                             (unrenormalised) and of Y(s), and Y at the previous renormalisation */
     fpl_chaos_result res;
     double *y, *q, *scale;
 };
@@ -343,19 +342,9 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
 /* MEGNO from the log-growth ell of the first vector at the renormalisation times t_m (Cincotta &
  * Simo 2000): Y(t) = (2/t) int_0^t s dell(s) = 2 ell(t) - (2/t) int_0^t ell(s) ds (by parts), and
  * <Y>(t) = (1/t) int_0^t Y(s) ds, both integrals by the trapezoid rule on the renormalisation
- * grid (exact for ell linear in s, which is what the limits below need). ell = ln s (regular:
- * linear growth) gives Y = 2; ell = lambda s gives Y = lambda t and <Y> = lambda t / 2;
+ * grid (fpl_megno_step; exact for ell linear in s, which is what the limits need). ell = ln s
+ * (regular: linear growth) gives Y = 2; ell = lambda s gives Y = lambda t and <Y> = lambda t / 2;
  * a stable periodic orbit gives 0. */
-static void megno_update(fpl_chaos *c, double t_prev, double ell_prev, double t, double ell)
-{
-    const double h = t - t_prev, s = t - c->t0;
-    c->ell_int += 0.5 * h * (ell_prev + ell);
-    const double y = 2.0 * ell - 2.0 * c->ell_int / s;
-    c->y_int += 0.5 * h * (c->y_prev + y);
-    c->y_prev = y;
-    c->res.megno = c->y_int / s;
-}
-
 int fpl_chaos_advance_megno(fpl_chaos *c, double t_until, double *t_out, double *mle_out,
                             double *sali_out, double *gali_out, double *megno_out)
 {
@@ -406,7 +395,7 @@ int fpl_chaos_advance_megno(fpl_chaos *c, double t_until, double *t_out, double 
             const double ell_prev = c->logsum;
             const double t_prev = c->m == 0 ? c->t0 : c->t0 + (double)c->m * tau;
             c->logsum += log(n1);
-            megno_update(c, t_prev, ell_prev, t, c->logsum);
+            res->megno = fpl_megno_step(c->megno_acc, t - t_prev, t - c->t0, ell_prev, c->logsum);
         }
         res->mle = c->logsum / (t - c->t0);
         res->t_final = t;
@@ -460,7 +449,7 @@ int fpl_chaos_save(const fpl_chaos *c, double *acc)
     const double a[FPL_CHAOS_N_ACCUMULATORS] = {
         (double)c->m, c->logsum, c->next, r->n_samples, r->chaotic, r->t_chaotic,
         r->mle, r->sali, r->gali, r->t_final, c->done, r->blew_up, r->t_blowup, r->completed,
-        c->t_pending, c->ell_int, c->y_int, c->y_prev, r->megno};
+        c->t_pending, c->megno_acc[0], c->megno_acc[1], c->megno_acc[2], r->megno};
     memcpy(acc, a, sizeof a);
     return FPL_OK;
 }
@@ -492,9 +481,9 @@ int fpl_chaos_restore(fpl_chaos *c, const double *acc)
     c->res.t_blowup = acc[12];
     c->res.completed = acc[13] != 0;
     c->t_pending = acc[14];
-    c->ell_int = acc[15];
-    c->y_int = acc[16];
-    c->y_prev = acc[17];
+    c->megno_acc[0] = acc[15];
+    c->megno_acc[1] = acc[16];
+    c->megno_acc[2] = acc[17];
     c->res.megno = acc[18];
     return FPL_OK;
 }

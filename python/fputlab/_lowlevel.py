@@ -522,9 +522,10 @@ class ChaosBatchHandle(_Handle):
         self._own(out[0])
 
     def advance(self, t: float, t_out: np.ndarray, mle: np.ndarray, sali: np.ndarray,
-                gali: np.ndarray) -> int:
-        return check(lib.fpl_chaos_batch_advance(self.ptr, t, ptr(t_out), ptr(mle), ptr(sali),
-                                                 ptr(gali)))
+                gali: np.ndarray, megno: np.ndarray | None = None) -> int:
+        """fpl_chaos_batch_advance_megno (`megno` None: not written)."""
+        return check(lib.fpl_chaos_batch_advance_megno(self.ptr, t, ptr(t_out), ptr(mle),
+                                                       ptr(sali), ptr(gali), _nul(megno)))
 
     def time(self) -> float:
         return lib.fpl_chaos_batch_time(self.ptr)

@@ -249,3 +249,13 @@ def test_megno_of_a_harmonic_chain_stays_bounded():
     lat = fputlab.Lattice(6, 0.0)
     res = lyapunov(lat, 2e3, renorm_interval=0.1, n_samples=8)
     assert abs(res.megno_final) < 0.1
+
+
+def test_megno_of_the_batched_lanes_is_the_single_orbits():
+    from fputlab.chaos import lyapunov_batch
+    lats = [fputlab.Lattice(8, 0.25, "nonlinear", tau=10.0, seed=s) for s in (1, 2, 3)]
+    batch = lyapunov_batch(lats, 500.0, method="srkn14a6", dt=0.5, n_samples=20)
+    for lat, b in zip(lats, batch):
+        one = lyapunov(lat, 500.0, method="srkn14a6", dt=0.5, n_samples=20)
+        assert b.megno.shape == b.t.shape
+        np.testing.assert_allclose(b.megno, one.megno, rtol=1e-10, atol=1e-12)
