@@ -175,6 +175,10 @@ def _load(path: Path, spec_json: str) -> dict | None:
                          f"remove it to recompute that orbit") from None
     if str(d.get("spec")) != spec_json:
         raise ValueError(f"{path}: belongs to another study (other parameters)")
+    if np.size(d.get("acc")) != ll.CHAOS_N_ACCUMULATORS:     # fpl_chaos_save grew (MEGNO)
+        raise ValueError(f"{path}: written by an older fputlab ({np.size(d.get('acc'))} chaos "
+                         f"accumulators, this version keeps {ll.CHAOS_N_ACCUMULATORS}); remove it "
+                         "to recompute that orbit")
     return d
 
 
