@@ -5,22 +5,22 @@ Axes when None) and returns that Axes, so plots compose:
 ``ax = plot_mle(results); plot_mle(other, ax=ax, colors="k")``. The paper's figures
 (`fputlab.figures`, `fputlab.figures_reduction`) are made with these functions.
 
-========================  ============================================================================
-function                  plots
-========================  ============================================================================
-plot_mode_energies        E_k(t) of a run (Figs. 1b, 2b/d, 3)
-plot_envelope             top view of the oscillation envelope max|x_j| (Figs. 1a, 2a/c)
-plot_mle                  finite-time mLE lambda(t) with the 1/t guide of regular orbits (Figs. 11-13)
-plot_sali                 SALI(t) with the chaos threshold (Figs. 11-13)
-plot_two_mode             Q_1, Q_2 of the two-mode system with the envelope equations (Fig. 6)
-plot_blowup_sweep         probability of blow-up versus tau, or the blow-up times
-plot_blowup_sweep_figure  both panels of a blow-up sweep in one figure, optionally a PNG
-plot_bifurcation          regions of the (A~, B~) plane by their equilibria, and the curves (Fig. 7)
-plot_spectrum             Lyapunov spectrum lambda_i against i/(2N) (the thermodynamic-limit shape)
-plot_spectrum_convergence lambda_i(t) of a spectrum run: convergence of the exponents in time
-plot_megno                MEGNO <Y>(t) with the quasi-periodic limit 2
-plot_clv_localisation     localisation of covariant Lyapunov vectors: 1/IPR against i/(2N)
-========================  ============================================================================
+=========================  =========================================================================
+function                   plots
+=========================  =========================================================================
+plot_mode_energies         E_k(t) of a run (Figs. 1b, 2b/d, 3)
+plot_envelope              top view of the oscillation envelope max|x_j| (Figs. 1a, 2a/c)
+plot_mle                   finite-time mLE lambda(t) with the 1/t guide of regular orbits (Figs. 11-13)
+plot_sali                  SALI(t) with the chaos threshold (Figs. 11-13)
+plot_two_mode              Q_1, Q_2 of the two-mode system with the envelope equations (Fig. 6)
+plot_blowup_sweep          probability of blow-up versus tau, or the blow-up times
+plot_blowup_sweep_figure   both panels of a blow-up sweep in one figure, optionally a PNG
+plot_bifurcation           regions of the (A~, B~) plane by their equilibria, and the curves (Fig. 7)
+plot_spectrum              Lyapunov spectrum lambda_i against i/(2N) (the thermodynamic-limit shape)
+plot_spectrum_convergence  lambda_i(t) of a spectrum run: convergence of the exponents in time
+plot_megno                 MEGNO <Y>(t) with the quasi-periodic limit 2
+plot_clv_localisation      localisation of covariant Lyapunov vectors: 1/IPR against i/(2N)
+=========================  =========================================================================
 """
 from __future__ import annotations
 

@@ -28,7 +28,7 @@ _S = ll.SPECTRUM_DEFAULTS
 
 def kaplan_yorke_dimension(exponents) -> float:
     """Kaplan-Yorke (Lyapunov) dimension of a spectrum: j + (lambda_1 + ... + lambda_j) /
-    |lambda_{j+1}| with j the largest index whose partial sum (exponents sorted descending) is
+    abs(lambda_(j+1)) with j the largest index whose partial sum (exponents sorted descending) is
     >= 0; 0 if lambda_1 < 0, and the number of exponents if every partial sum is >= 0."""
     lam = np.sort(np.asarray(exponents, dtype=float))[::-1]
     if lam.size == 0 or not np.all(np.isfinite(lam)):
@@ -112,7 +112,8 @@ class SpectrumResult(ResultMixin):
         return xr.Dataset(
             {"exponents": variable("exponent", self.exponents, "exponents"),
              "history": variable(("exponent", "t"), self.history, "history")},
-            coords={"exponent": variable("exponent", i, "exponent"), "t": variable("t", self.t, "t")},
+            coords={"exponent": variable("exponent", i, "exponent"),
+                    "t": variable("t", self.t, "t")},
             attrs={**scalar_attrs(self), "ks_entropy": self.ks_entropy,
                    "kaplan_yorke_dimension": self.kaplan_yorke_dimension})
 
@@ -289,8 +290,8 @@ def lyapunov_spectrum(lattice: Lattice, t_end: float, *, k: int | None = None, y
 
 def inverse_participation_ratio(vectors) -> np.ndarray:
     """Inverse participation ratio over sites of deviation vectors (..., 2N) = [δx, δp]: with
-    site weights e_j = (δx_j² + δp_j²) / |v|², IPR = Σ_j e_j² (1/N: spread evenly over the N
-    sites, 1: on one site); 1/IPR is the number of sites a vector occupies."""
+    site weights e_j = (δx_j² + δp_j²) / ‖v‖², IPR = Σ_j e_j² (1/N: spread evenly over the
+    N sites, 1: on one site); 1/IPR is the number of sites a vector occupies."""
     v = np.asarray(vectors, dtype=float)
     if v.shape[-1] % 2:
         raise ValueError(f"vectors must have an even last axis 2N (got {v.shape[-1]})")
