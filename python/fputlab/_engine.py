@@ -120,20 +120,59 @@ def process_pool(workers: int | None = None) -> ProcessPoolExecutor:
     return _Pool(max_workers=workers, initializer=_die_with_parent, initargs=(os.getpid(),))
 
 
-def _dask_client(scheduler):
-    """(client, owned): a Client for an address, a Client as given, or one for a Cluster."""
+#: seconds to reach a Dask scheduler before giving up (an unreachable address must not hang)
+CONNECT_TIMEOUT = 20.0
+
+
+class SchedulerLost(RuntimeError):
+    """The Dask scheduler went away during a run (what finished is kept by the caller)."""
+
+
+def _dask_client(scheduler, timeout: float | None = None):
+    """(client, owned): a Client for an address, a Client as given, or one for a Cluster. An
+    address that does not answer within `timeout` seconds (default `CONNECT_TIMEOUT`) raises
+    OSError naming it."""
     from dask.distributed import Client
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
     if isinstance(scheduler, Client):
         return scheduler, False
-    if isinstance(scheduler, str):
-        return Client(scheduler), True
-    if hasattr(scheduler, "scheduler_address"):          # a LocalCluster, SLURMCluster, ...
-        return Client(scheduler), True
+    if isinstance(scheduler, str) or hasattr(scheduler, "scheduler_address"):
+        address = scheduler if isinstance(scheduler, str) else scheduler.scheduler_address
+        try:
+            return Client(scheduler, timeout=timeout), True
+        except (OSError, TimeoutError) as err:
+            raise OSError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s "
+                          f"({type(err).__name__}: {' '.join(str(err).split())[:200]})") from None
     raise ValueError(f"scheduler must be an address 'tcp://host:port', a dask.distributed.Client "
                      f"or a cluster (got {type(scheduler).__name__})")
 
 
-def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None):
+def total_threads(workers=None, scheduler=None) -> int:
+    """The threads that run tasks: the local pool's processes (`workers`, default all cores),
+    or the sum of the Dask workers' threads (`client.scheduler_info()`), at least 1. Task sizes
+    follow it, not the client's core count: 60 orbits on a 100-node cluster are 60 tasks, not 4."""
+    if scheduler is None:
+        return max(1, int(workers or os.cpu_count() or 1))
+    client, owned = _dask_client(scheduler)
+    try:
+        info = client.scheduler_info()
+        return max(1, sum(int(w.get("nthreads", 1)) for w in info.get("workers", {}).values()))
+    finally:
+        if owned:
+            client.close()
+
+
+def chunks(items: list, threads: int, minimum: int = 1) -> list[list]:
+    """`items` cut into consecutive pieces, one per thread (so every thread has work), each of at
+    least `minimum` items (a batched kernel gains nothing below its lane count): the one
+    chunking rule of every ensemble."""
+    if not items:
+        return []
+    per = max(int(minimum), -(-len(items) // max(1, int(threads))))
+    return [items[i:i + per] for i in range(0, len(items), per)]
+
+
+def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None, window: int | None = None):
     """The ensemble engine: ``fn(*call)`` for every call, on a local process pool or a Dask
     cluster, yielded in completion order. Every sweep of fputlab runs on it.
 
@@ -146,15 +185,24 @@ def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None):
     workers : int, optional
         Local worker processes (default: all cores); ignored with `scheduler`.
     scheduler : str, dask.distributed.Client or cluster, optional
-        Run on Dask instead: an address "tcp://host:port", a Client, or a cluster object.
+        Run on Dask instead: an address "tcp://host:port", a Client, or a cluster object. An
+        address that does not answer within `CONNECT_TIMEOUT` raises OSError naming it.
     keys : list of str, optional
         Dask task keys, one per call (default: random keys).
+    window : int, optional
+        At most this many calls submitted and not yet finished (default: twice the threads):
+        the client holds a bounded number of futures, whatever the number of calls.
 
     Yields
     ------
     tuple
         ``(call, result, error)``: exactly one of `result` and `error` (the exception the call
         raised) is None.
+
+    Raises
+    ------
+    SchedulerLost
+        The Dask scheduler went away during the run (the calls yielded so far are complete).
 
     Examples
     --------
@@ -165,11 +213,21 @@ def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None):
     calls = list(calls)
     if scheduler is None:
         pool = process_pool(workers)
+        limit = window or 2 * max(1, int(workers or os.cpu_count() or 1))
         try:
-            futs = {pool.submit(fn, *c): c for c in calls}
-            for fut in as_completed(futs):
-                err = fut.exception()
-                yield futs[fut], (None if err else fut.result()), err
+            pending, it = {}, iter(enumerate(calls))
+            for i, c in it:
+                pending[pool.submit(fn, *c)] = c
+                if len(pending) >= limit:
+                    break
+            while pending:
+                done = next(as_completed(pending))
+                c = pending.pop(done)
+                err = done.exception()
+                yield c, (None if err else done.result()), err
+                for i, nc in it:
+                    pending[pool.submit(fn, *nc)] = nc
+                    break
         except BaseException:                 # Ctrl-C, or the caller stopped: workers go now
             pool.terminate()
             raise
@@ -178,17 +236,49 @@ def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None):
     from dask.distributed import as_completed as dask_as_completed
     client, owned = _dask_client(scheduler)
     try:
-        futs = {}
-        for i, c in enumerate(calls):
+        threads = max(1, sum(int(w.get("nthreads", 1))
+                             for w in client.scheduler_info().get("workers", {}).values()))
+        limit = window or 2 * threads
+
+        def submit(i):
             kw = {"key": keys[i]} if keys is not None else {"pure": False}
-            futs[client.submit(fn, *c, **kw)] = c
-        for fut in dask_as_completed(list(futs)):
+            return client.submit(fn, *calls[i], **kw)
+        futs, nxt = {}, 0
+        while nxt < len(calls) and len(futs) < limit:
+            futs[submit(nxt)] = calls[nxt]
+            nxt += 1
+        ac = dask_as_completed(list(futs))
+        for fut in ac:
+            c = futs.pop(fut)
             try:
-                yield futs[fut], fut.result(), None
-            except Exception as err:          # the call's own exception, re-raised by Dask
-                yield futs[fut], None, err
+                result, err = fut.result(), None
+            except Exception as exc:          # the call's own exception, or the cluster's
+                result, err = None, exc
+                if _scheduler_gone(client, exc):
+                    raise SchedulerLost(
+                        f"lost the Dask scheduler {client.scheduler.address} during the run "
+                        f"({type(exc).__name__}); what finished is kept: rerun to continue"
+                    ) from None
             finally:
                 fut.release()
+            yield c, result, err
+            if nxt < len(calls):
+                f = submit(nxt)
+                futs[f] = calls[nxt]
+                ac.add(f)
+                nxt += 1
     finally:
         if owned:
-            client.close()
+            try:
+                client.close(timeout=5)
+            except Exception:                 # noqa: BLE001 - a dead scheduler cannot be closed
+                pass
+
+
+def _scheduler_gone(client, exc) -> bool:
+    """Whether a failed future means the scheduler is gone, not the task's own error: Dask
+    cancels every future it holds when it loses the scheduler (a lost worker's tasks are
+    rescheduled, not cancelled), and no fputlab task cancels itself."""
+    from concurrent.futures import CancelledError
+    return isinstance(exc, CancelledError) or type(exc).__name__ in (
+        "FutureCancelledError", "CancelledError", "CommClosedError")

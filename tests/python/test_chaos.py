@@ -41,10 +41,14 @@ def test_sali_gali_closed_forms():
 
 def test_chaotic_fraction_runs_realisations_in_parallel():
     out = chaos.chaotic_fraction(Ns=(4, 8), realisations=2, t_end=200.0, workers=2, n_samples=10)
-    assert out["N"] == [4, 8] and len(out["percent"]) == 2
-    assert all(len(out["results"][N]) == 2 for N in (4, 8))
-    seeds = {r.params["seed"] for r in out["results"][4]}
-    assert seeds == {1, 2}
+    ds = out.to_xarray()
+    assert list(ds["N"].values) == [4, 8] and list(ds["seed"].values) == [1, 2]
+    assert [row["N"] for row in out.summary()] == [4, 8]
+    assert all(len(out.orbits(N)) == 2 for N in (4, 8))
+    assert {r.params["seed"] for r in out.orbits(4)} == {1, 2}
+    # the dict it used to be still answers, with a warning
+    with pytest.warns(DeprecationWarning, match="summary"):
+        assert out["N"] == [4, 8]
 
 
 @pytest.mark.parametrize("kwargs,word", [
@@ -80,28 +84,32 @@ def test_chaotic_fraction_percent_is_the_share_of_chaotic_records():
     N, R, T = 4, 12, 3000.0
     y0 = Lattice(N).mode_state(1, 3.0)
     out = chaos.chaotic_fraction(Ns=(N,), realisations=R, tau=20.0, t_end=T, workers=2,
-                                 n_samples=20, y0=y0, stop_when_chaotic=True)
-    recs = out["results"][N]
+                                 samples_per_decade=8, y0=y0, stop_when_chaotic=True)
+    recs = out.orbits(N)
     assert [r.params["seed"] for r in recs] == list(range(1, R + 1))
     assert all(r.params["tau"] == 20.0 and r.params["model"] == "nonlinear" for r in recs)
     classes = [r.classify() for r in recs]
     assert classes.count("blow-up") >= 2 and classes.count("regular") >= 2    # a real mix
-    assert out["percent"] == [pytest.approx(100.0 * classes.count("chaotic") / R, abs=1e-12)]
-    assert out["blowups"] == [classes.count("blow-up")]
+    row, = out.summary()
+    assert row["fraction_chaotic"] == pytest.approx(classes.count("chaotic") / R, abs=1e-12)
+    assert row["blow-up"] == classes.count("blow-up") and row["n"] == R
+    assert list(out.to_xarray()["orbit_class"].values.ravel()) == classes
     for r, c in zip(recs, classes):
         if c == "blow-up":   # ended at the barrier, never flagged chaotic, samples kept
             assert r.blew_up and not r.chaotic and r.t_final < r.t_blowup < T
             assert np.all(np.isfinite(r.mle)) and r.t[-1] <= r.t_blowup
         else:
             assert r.completed and r.t_final == T and not r.blew_up
-    # a record is the same orbit as a serial run of that realisation
+    # a record is the same orbit as a serial run of that realisation, on the study's sample
+    # grid: 8 per decade from t = 1 (the first renormalisation) to the decade past T, 1e4
     k = classes.index("blow-up")
     lat = Lattice(N, 0.25, "nonlinear", tau=20.0, seed=k + 1)
     # ensembles default to the validated fast scheme and early stop
     assert recs[k].method == chaos.ENSEMBLE_METHOD and recs[k].params["dt"] == chaos.ENSEMBLE_DT
-    direct = chaos.lyapunov(lat, T, y0=y0, n_samples=20, stop_when_chaotic=True,
+    direct = chaos.lyapunov(lat, 1e4, y0=y0, n_samples=4 * 8 + 1, stop_when_chaotic=True,
                             method=chaos.ENSEMBLE_METHOD, dt=chaos.ENSEMBLE_DT)
     np.testing.assert_array_equal(direct.mle, recs[k].mle)
+    np.testing.assert_array_equal(direct.t, recs[k].t)
     assert direct.t_blowup == recs[k].t_blowup
 
 
@@ -162,7 +170,8 @@ def test_blowup_is_never_chaos(seed, blowup_stretch):
     out = chaos.chaotic_fraction(Ns=(64,), realisations=1, tau=20.0, t_end=1e4,
                                  first_seed=seed, workers=1, blowup_stretch=blowup_stretch,
                                  method="yoshida4", dt=0.01)
-    assert out["percent"] == [0.0] and out["blowups"] == [1]
+    row, = out.summary()
+    assert row["chaotic"] == 0 and row["blow-up"] == 1
 
 
 @pytest.mark.parametrize("method,dt", [("yoshida4", 0.01), ("srkn14a6", 0.1)])

@@ -230,23 +230,26 @@ def test_blowup_record_fields_and_arrays():
     assert out["probability"][:, 0].tolist() == [float(r.blew_up) for r in recs]
 
 
-def test_chaos_fraction_file_rows_are_named_columns(tmp_path, capsys):
-    path = tmp_path / "c.h5"
+def test_chaos_fraction_file_is_the_labelled_result(tmp_path, capsys):
+    xr = pytest.importorskip("xarray")
+    path = tmp_path / "c.nc"
     assert main(["chaos", "--realisations", "2", "--N", "4", "--t-end", "200", "--samples",
                  "10", "--workers", "1", "--out", str(path), "--json"]) == 0
     capsys.readouterr()
-    with h5py.File(path) as f:
-        assert f.attrs["columns"] == "N, realisation, mle, sali, t_final"
-        assert f.attrs["model"] == "nonlinear" and f.attrs["tau"] == 10.0
-        rows = f["records"][...]
-    assert rows.shape == (2, 5)
-    for N, i, mle, sali_, t_final in rows:
-        lat = fputlab.Lattice(4, 0.25, "nonlinear", tau=10.0, seed=1 + int(i))
-        ref = chaos.lyapunov(lat, 200.0, method=chaos.ENSEMBLE_METHOD, dt=chaos.ENSEMBLE_DT,
-                             n_samples=10, stop_when_chaotic=True)
-        assert N == 4 and t_final == ref.t_final
-        assert mle == pytest.approx(ref.mle_final, rel=1e-9)
-        assert sali_ == pytest.approx(float(ref.sali[-1]), rel=1e-6, abs=1e-14)
+    with xr.open_dataset(path) as ds:
+        assert ds["orbit_class"].dims == ("N", "tau", "seed")
+        assert ds["mle_t"].dims == ("N", "tau", "seed", "sample")
+        assert ds["tau"].attrs["units"] == "percent" and "long_name" in ds["mle"].attrs
+        assert list(ds["seed"].values) == [1, 2] and list(ds["tau"].values) == [10.0]
+        for seed in (1, 2):
+            o = ds.sel(N=4, tau=10.0, seed=seed)
+            lat = fputlab.Lattice(4, 0.25, "nonlinear", tau=10.0, seed=seed)
+            ref = chaos.lyapunov(lat, 200.0, method=chaos.ENSEMBLE_METHOD, dt=chaos.ENSEMBLE_DT,
+                                 n_samples=10, stop_when_chaotic=True)
+            assert float(o["t_final"]) == ref.t_final
+            assert float(o["mle"]) == pytest.approx(ref.mle_final, rel=1e-12)
+            assert float(o["sali"]) == pytest.approx(float(ref.sali[-1]), rel=1e-12)
+            assert str(o["orbit_class"].values) == ref.classify()
 
 
 def test_orbit_records_are_named():

@@ -259,3 +259,17 @@ def test_megno_of_the_batched_lanes_is_the_single_orbits():
         one = lyapunov(lat, 500.0, method="srkn14a6", dt=0.5, n_samples=20)
         assert b.megno.shape == b.t.shape
         np.testing.assert_allclose(b.megno, one.megno, rtol=1e-10, atol=1e-12)
+
+
+def test_megno_in_the_chaos_study():
+    from fputlab.chaos import chaotic_fraction
+    out = chaotic_fraction(Ns=(8,), realisations=2, t_end=300.0, workers=1)
+    ds = out.to_xarray()
+    assert "megno" in ds and "megno_t" in ds
+    for seed, orbit in zip((1, 2), out.orbits(8)):
+        lat = fputlab.Lattice(8, 0.25, "nonlinear", tau=10.0, seed=seed)
+        one = lyapunov(lat, 300.0, method="srkn14a6", dt=0.5, stop_when_chaotic=True)
+        # the lanes and the single-orbit handle agree; the study samples on its own log grid
+        assert float(ds["megno"].sel(N=8, seed=seed).squeeze()) == pytest.approx(
+            one.megno_final, rel=1e-10)
+        assert orbit.megno.shape == orbit.t.shape and np.all(np.isfinite(orbit.megno))

@@ -2,12 +2,21 @@
 `fputlab.chaos.lyapunov` (or of the batched kernel) on the ensemble engine."""
 from __future__ import annotations
 
-import inspect
-import os
+import json
+import math
+import time
+import warnings
 from typing import NamedTuple
 
-from .._engine import check_ensemble, run_calls
-from ..lattice import Lattice
+import numpy as np
+
+from .. import _lowlevel as ll
+from .._errors import FputlabError, last_error
+from .._validate import C_INT, C_U64, _int, _real
+from .._engine import check_ensemble
+from ..engine import StudyKind, StudyResult, run_study, wilson_interval
+from ..integrate import method_info
+from ..lattice import MODELS, Lattice
 from .batch import BATCH_METHODS, lyapunov_batch
 from .result import CLASSES, ChaosResult
 from .single import ENSEMBLE_DT, ENSEMBLE_METHOD, lyapunov
@@ -49,19 +58,363 @@ def ensemble_defaults(method: str | None, kwargs: dict) -> tuple[str, dict]:
     return method, kwargs
 
 
-def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float = 10.0, *,
+
+# ---- the chaos study kind ---------------------------------------------------------------------
+# The sample grid is log-spaced at `samples_per_decade` from t_first_sample, independent of t_end:
+# the C options get a grid end t_first * 10^K beyond t_end (K decades, n = K*spd + 1 samples:
+# the same times for every K), so a study run further keeps its samples and continues every orbit
+# bit for bit from its saved state, and every orbit shares one sequence of sample times.
+
+#: samples per decade of the chaos studies' log-spaced grid
+SAMPLES_PER_DECADE = 40
+
+
+def _grid_options(settings: dict, t_end: float) -> tuple[float, int]:
+    """(C t_end, C n_samples) whose log-spaced grid holds t_end with samples_per_decade."""
+    t_first = settings["t_first_sample"] or settings["renorm_interval"]
+    K = max(1, math.floor(math.log10(t_end / t_first)) + 1)
+    return t_first * 10.0 ** K, K * settings["samples_per_decade"] + 1
+
+
+def _c_options(settings: dict, t_end: float) -> dict:
+    T, n = _grid_options(settings, t_end)
+    co = {"renorm_interval": settings["renorm_interval"], "n_samples": n,
+          "t_first_sample": settings["t_first_sample"], "n_dev": settings["n_dev"],
+          "sali_threshold": settings["sali_threshold"],
+          "stop_when_chaotic": settings["stop_when_chaotic"], "seed": settings["deviation_seed"]}
+    if settings["blowup_stretch"] is not None:
+        co["blowup_stretch"] = settings["blowup_stretch"]
+    return T, co
+
+
+def _lattice(settings: dict, N: int, tau: float, seed: int) -> Lattice:
+    if settings["model"] == "homogeneous":
+        return Lattice(N, settings["alpha"], "homogeneous")
+    return Lattice(N, settings["alpha"], settings["model"], tau=tau, seed=seed)
+
+
+def _initial(settings: dict, lat: Lattice) -> np.ndarray:
+    """The orbit's initial state: settings["y0"], or the paper's mode-1 state (Eq. initxi)."""
+    if settings["y0"] is not None:
+        return np.ascontiguousarray(settings["y0"], dtype=float)
+    return lat.mode_state()
+
+
+def _report(settings, t_end, res, t, mle, sali, gali, megno, message, state, cpu,
+            failed=False) -> dict:
+    """One orbit's report: its values (class at the end, final indicators, the samples) and, if
+    it can go on, its state in the single-orbit checkpoint format."""
+    k = int(res.n_samples)
+    t, mle, sali, gali, megno = (np.array(a[:k]) for a in (t, mle, sali, gali, megno))
+    cls = ll.chaos_classify(bool(res.chaotic), float(res.t_chaotic), bool(res.blew_up),
+                            float(res.t_blowup), float(res.t_final), t, mle, math.nan)
+    done = bool(res.chaotic and settings["stop_when_chaotic"]) or bool(res.blew_up) or failed
+    values = {"orbit_class": cls, "mle": float(res.mle), "sali": float(res.sali),
+              "chaotic": bool(res.chaotic), "t_chaotic": float(res.t_chaotic),
+              "blew_up": bool(res.blew_up), "t_blowup": float(res.t_blowup),
+              "t_final": float(res.t_final), "steps": int(res.steps), "message": message,
+              "megno": float(res.megno),
+              "t_sample": t, "mle_t": mle, "sali_t": sali, "gali_t": gali, "megno_t": megno}
+    return {"t": t_end, "done": done, "message": message, "cpu": cpu, "values": values,
+            "state": None if done else state}
+
+
+def _samples(prev, S: int, rows: int = 1):
+    """Sample arrays (t, mle, sali, gali, megno) of length S, holding a previous report's
+    samples."""
+    out = [np.full(S, np.nan) for _ in range(5)]
+    if prev is not None:
+        for a, name in zip(out, ("t_sample", "mle_t", "sali_t", "gali_t", "megno_t")):
+            v = np.asarray(prev["values"][name], float)
+            a[:v.size] = v
+    return out
+
+
+def _run_single(settings, N, tau, seed, prev, t_end) -> dict:
+    """One orbit through fpl_chaos (any method), from its saved state if any."""
+    cpu0 = time.process_time()
+    lat = _lattice(settings, N, tau, seed)
+    T, co = _c_options(settings, t_end)
+    adaptive = method_info(settings["method"])["adaptive"]
+    io = ll.integrator_options(0.0 if adaptive else settings["dt"], settings["rtol"],
+                               settings["atol"])
+    c = ll.ChaosHandle(lat._h, settings["method"], io, 0.0, _initial(settings, lat), None,
+                       ll.chaos_options(T, **co))
+    ih = c.integrator()
+    arrays = _samples(prev, co["n_samples"])
+    if prev is not None:
+        st = prev["state"]
+        ih.restore(int(st["steps"]), float(st["t"]), np.ascontiguousarray(st["y"], float))
+        c.restore(np.ascontiguousarray(st["acc"], float))
+    message, failed = (prev["message"] if prev is not None else ""), False
+    try:
+        if c.advance(t_end, *arrays) > 0:
+            message = last_error()              # a blow-up: when and why
+    except (FputlabError, ValueError) as err:   # a numerical failure: the orbit ends here
+        message, failed = str(err), True
+    res = c.get_result()
+    state = {"steps": np.int64(ih.steps()), "t": np.float64(ih.time()), "y": ih.get_state(),
+             "acc": c.save()}
+    return _report(settings, t_end, res, *arrays, message, state,
+                   time.process_time() - cpu0, failed)
+
+
+def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
+    """Orbits of one N (all at one step) in the vector lanes of the batched kernel: the numbers
+    of `_run_single` for each, bit for bit, several times cheaper for small N."""
+    cpu0 = time.process_time()
+    R = len(seeds)
+    lats = [_lattice(settings, N, tau, s) for s in seeds]
+    T, co = _c_options(settings, t_end)
+    io = ll.integrator_options(settings["dt"])
+    y0 = np.ascontiguousarray(np.stack([_initial(settings, lat) for lat in lats]))
+    b = ll.ChaosBatchHandle([lat._h for lat in lats], settings["method"], io, 0.0, y0, None,
+                            ll.chaos_batch_options(T, **co))
+    S = co["n_samples"]
+    rows = [_samples(p, S) for p in prevs]
+    arrays = [np.ascontiguousarray(np.stack([r[i] for r in rows])) for i in range(5)]
+    if prevs[0] is not None:
+        st = [p["state"] for p in prevs]
+        b.set_orbits([int(x["steps"]) for x in st], [float(x["t"]) for x in st],
+                     np.stack([np.asarray(x["y"], float) for x in st]),
+                     np.stack([np.asarray(x["acc"], float) for x in st]))
+    b.advance(t_end, *arrays)
+    cpu = (time.process_time() - cpu0) / R
+    lane = 2 * N * (settings["n_dev"] + 1)
+    out = []
+    for r in range(R):
+        steps, t, y, acc = b.get_orbit(r, lane)
+        res = b.get_result(r)
+        state = {"steps": np.int64(steps), "t": np.float64(t), "y": y, "acc": acc}
+        out.append(_report(settings, t_end, res, *(a[r] for a in arrays), b.message(r), state,
+                           cpu))
+    return out
+
+
+def _check_values(values, name: str, kind, minimum) -> list:
+    try:
+        vals = [kind(v) for v in np.atleast_1d(np.asarray(values)).tolist()]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers (got {values!r})") from None
+    if not vals:
+        raise ValueError(f"{name} must not be empty")
+    if kind is int and any(float(v) != int(v) for v in np.atleast_1d(values).tolist()):
+        raise ValueError(f"{name} must be integers (got {values!r})")
+    if any(not math.isfinite(v) or v < minimum for v in vals):
+        raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")
+    if len(set(vals)) != len(vals):
+        raise ValueError(f"{name} must not repeat values (got {vals})")
+    return vals
+
+
+class ChaosKind(StudyKind):
+    """Chaos indicators of one orbit per (N, tau, seed): lambda(t), SALI(t), GALI(t) on a
+    log-spaced grid, the class at t_end; the orbit state in the single-orbit checkpoint format,
+    so a larger t_end continues it bit for bit. Batchable methods run the orbits of one N in
+    the vector lanes."""
+    name = "chaos"
+    version = 2         # 2: MEGNO (and fpl_chaos_save's 19 accumulators)
+    dims = ("N", "tau", "seed")
+    batch = 4
+    variables = {
+        "orbit_class": ((), str, "", "class of the orbit at t_end (chaotic, regular, blow-up, "
+                                     "undecided)"),
+        "mle": ((), float, "1", "finite-time maximum Lyapunov exponent at the end"),
+        "sali": ((), float, "1", "smaller alignment index at the end"),
+        "megno": ((), float, "1", "MEGNO <Y> at the end (-> 2 regular, ~ lambda t/2 chaotic)"),
+        "chaotic": ((), bool, "", "SALI fell below its threshold on the finite orbit"),
+        "t_chaotic": ((), float, "1", "time SALI fell below its threshold"),
+        "blew_up": ((), bool, "", "the orbit blew up"),
+        "t_blowup": ((), float, "1", "blow-up time"),
+        "t_final": ((), float, "1", "time of the last renormalisation"),
+        "steps": ((), np.int64, "1", "integrator steps"),
+        "message": ((), str, "", "how the run ended"),
+        "t_sample": (("sample",), float, "1", "sample time of the orbit"),
+        "mle_t": (("sample",), float, "1", "finite-time maximum Lyapunov exponent"),
+        "sali_t": (("sample",), float, "1", "smaller alignment index"),
+        "gali_t": (("sample",), float, "1", "generalised alignment index"),
+        "megno_t": (("sample",), float, "1", "MEGNO <Y>(t)"),
+    }
+    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
+                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
+                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+                   "t": {"long_name": "sample time", "units": "1"}}
+
+    def normalise(self, grid, settings):
+        grid = {"N": _check_values(grid["N"], "Ns", int, 2),
+                "tau": _check_values(grid["tau"], "tau", float, 0.0),
+                "seed": _check_values(grid["seed"], "seeds", int, 0)}
+        s = dict(settings)
+        unknown = set(s) - set(_CHAOS_SETTINGS)
+        if unknown:
+            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of chaos studies "
+                             f"(known: {', '.join(sorted(_CHAOS_SETTINGS))})")
+        s = {**_CHAOS_SETTINGS, **{k: v for k, v in s.items() if v is not None}}
+        if s["model"] not in MODELS:
+            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
+        if s["model"] == "homogeneous" and any(t != 0 for t in grid["tau"]):
+            raise ValueError("tau: the homogeneous model has no disorder (use tau=0)")
+        if s["method"] is None:
+            s["method"] = ENSEMBLE_METHOD
+            s["dt"] = ENSEMBLE_DT if settings.get("dt") is None else settings["dt"]
+        if not isinstance(s["method"], str):
+            raise ValueError(f"method must be a string (got {s['method']!r})")
+        adaptive = method_info(s["method"])["adaptive"]      # names an unknown method
+        for name in ("alpha", "dt", "rtol", "atol", "renorm_interval", "t_first_sample",
+                     "sali_threshold"):
+            s[name] = _real(s[name], name)
+        for name in ("dt", "rtol", "atol", "renorm_interval"):
+            if not s[name] > 0 and not (name == "dt" and adaptive):
+                raise ValueError(f"{name} must be > 0 (got {s[name]:g})")
+        if s["t_first_sample"] < 0:
+            raise ValueError(f"t_first_sample must be >= 0 (got {s['t_first_sample']:g})")
+        for name, low in (("n_dev", 1), ("samples_per_decade", 1), ("deviation_seed", 0)):
+            s[name] = _int(s[name], name, C_U64 if name == "deviation_seed" else C_INT)
+            if s[name] < low:
+                raise ValueError(f"{name} must be >= {low} (got {s[name]})")
+        s["stop_when_chaotic"] = bool(s["stop_when_chaotic"])
+        if s["y0"] is not None:
+            y0 = np.asarray(s["y0"], dtype=float).ravel()
+            bad = [N for N in grid["N"] if y0.size != 2 * N]
+            if bad or not np.all(np.isfinite(y0)):
+                raise ValueError(f"y0 must hold 2N finite values for every N (got {y0.size} "
+                                 f"values, N = {grid['N']})")
+            s["y0"] = [float(v) for v in y0]
+        if s["blowup_stretch"] is not None:
+            s["blowup_stretch"] = _real(s["blowup_stretch"], "blowup_stretch")
+        return grid, s
+
+    def group(self, coords, settings, previous):
+        if settings["method"] not in BATCH_METHODS:
+            return None
+        steps = int(previous["state"]["steps"]) if previous is not None else 0
+        return (coords["N"], coords["tau"], steps)
+
+    def cost(self, coords, settings):
+        return float(coords["N"])
+
+    def run(self, settings, coords, previous, t_end):
+        if len(coords) == 1 or settings["method"] not in BATCH_METHODS:
+            return [_run_single(settings, c["N"], c["tau"], c["seed"], p, t_end)
+                    for c, p in zip(coords, previous)]
+        c0 = coords[0]
+        return _run_lanes(settings, c0["N"], c0["tau"], [c["seed"] for c in coords], previous,
+                          t_end)
+
+    def extra_sizes(self, settings, t_end):
+        return {"sample": _grid_options(settings, t_end)[1]}
+
+    def extra_coords(self, settings, arrays):
+        """The sample times every orbit shares (those of the orbit sampled furthest; an
+        orbit stopped as chaotic has one last sample of its own, in t_sample)."""
+        ts = arrays["t_sample"].reshape(-1, arrays["t_sample"].shape[-1])
+        counts = np.sum(np.isfinite(ts), axis=1)
+        t = ts[int(np.argmax(counts))] if ts.shape[0] else ts[0:0]
+        return {"t": ("sample", t)}
+
+    def summary(self, ds):
+        rows = []
+        cls = ds["orbit_class"].values
+        for i, N in enumerate(ds["N"].values):
+            for j, tau in enumerate(ds["tau"].values):
+                c = cls[i, j]
+                n = int(c.size)
+                row = {"N": int(N), "tau": float(tau), "n": n}
+                row.update({name: int(np.sum(c == name)) for name in CLASSES})
+                k = row["chaotic"]
+                lo, hi = wilson_interval(k, n)
+                row.update({"fraction_chaotic": k / n if n else math.nan,
+                            "fraction_chaotic_low": lo, "fraction_chaotic_high": hi})
+                b = row["blow-up"]
+                lo, hi = wilson_interval(b, n)
+                row.update({"fraction_blowup": b / n if n else math.nan,
+                            "fraction_blowup_low": lo, "fraction_blowup_high": hi})
+                rows.append(row)
+        return rows
+
+
+_C = ll.CHAOS_DEFAULTS
+#: the settings of chaos studies and their defaults (C's, from fpl_chaos_options_init; method
+#: None: ENSEMBLE_METHOD at ENSEMBLE_DT)
+_CHAOS_SETTINGS = {
+    "model": "nonlinear", "alpha": 0.25, "method": None, "dt": ll.DT, "rtol": ll.RTOL,
+    "atol": ll.ATOL, "renorm_interval": _C["renorm_interval"],
+    "t_first_sample": _C["t_first_sample"], "samples_per_decade": SAMPLES_PER_DECADE,
+    "n_dev": _C["n_dev"], "sali_threshold": _C["sali_threshold"], "stop_when_chaotic": True,
+    "deviation_seed": _C["seed"], "blowup_stretch": None, "y0": None,
+}
+
+CHAOS_KIND = ChaosKind()
+
+
+class ChaoticFraction(StudyResult):
+    """The result of `chaotic_fraction`: a `StudyResult` (``to_xarray()``, ``summary()``, a
+    one-line repr) that also answers the keys of the dict it used to be ("N", "percent",
+    "blowups", "classes", "results"), with a DeprecationWarning."""
+
+    _OLD = ("N", "percent", "blowups", "classes", "results")
+
+    def __getitem__(self, key):
+        if key not in self._OLD:
+            raise KeyError(key)
+        warnings.warn(f"chaotic_fraction(...)[{key!r}] is deprecated: use .summary() or "
+                      ".to_xarray()", DeprecationWarning, stacklevel=2)
+        return self._legacy()[key]
+
+    def keys(self):
+        return list(self._OLD)
+
+    def _legacy(self) -> dict:
+        ds = self.dataset
+        Ns = [int(n) for n in ds["N"].values]
+        rows = {r["N"]: r for r in self.summary() if r["tau"] == float(ds["tau"].values[0])}
+        return {"N": Ns,
+                "percent": [100.0 * rows[N]["fraction_chaotic"] for N in Ns],
+                "blowups": [rows[N]["blow-up"] for N in Ns],
+                "classes": {N: {c: rows[N][c] for c in CLASSES} for N in Ns},
+                "results": {N: self.orbits(N) for N in Ns}}
+
+    def orbits(self, N: int, tau: float | None = None) -> list[ChaosResult]:
+        """The ChaosResult of every seed at one N (and tau: default the first), in seed order."""
+        ds = self.dataset
+        sel = ds.sel(N=N, tau=float(ds["tau"].values[0]) if tau is None else tau)
+        settings = json.loads(ds.attrs["settings"])
+        out = []
+        for seed in ds["seed"].values:
+            o = sel.sel(seed=seed)
+            t = o["t_sample"].values
+            k = int(np.sum(np.isfinite(t)))
+            out.append(ChaosResult(
+                t=t[:k], mle=o["mle_t"].values[:k], sali=o["sali_t"].values[:k],
+                gali=o["gali_t"].values[:k], chaotic=bool(o["chaotic"]),
+                t_chaotic=float(o["t_chaotic"]), t_final=float(o["t_final"]),
+                steps=int(o["steps"]), method=settings["method"],
+                completed=bool(o["finished"]) or float(o["t_reached"]) >= ds.attrs["t_end"],
+                message=str(o["message"].values),
+                params={"N": int(N), "model": settings["model"], "tau": float(o["tau"]),
+                        "seed": int(seed), "t_end": ds.attrs["t_end"], "dt": settings["dt"],
+                        "renorm_interval": settings["renorm_interval"]},
+                blew_up=bool(o["blew_up"]), t_blowup=float(o["t_blowup"]),
+                megno=o["megno_t"].values[:k] if "megno_t" in o else None))
+        return out
+
+
+def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau=10.0, *,
                      t_end: float = 1e4, model: str = "nonlinear", alpha: float = 0.25,
-                     method: str | None = None, first_seed: int = 1, workers: int | None = None,
-                     scheduler=None, progress: bool = False, **kwargs) -> dict:
-    """Percentage of chaotic orbits over disorder realisations for each lattice size (paper
-    Fig. 14: tau = 10 %, model 3, t = 1e8), and how many blew up.
+                     method: str | None = None, first_seed: int = 1, work_dir=None,
+                     overwrite: bool = False, workers: int | None = None, scheduler=None,
+                     progress: bool = False, **kwargs) -> ChaoticFraction:
+    """Share of chaotic orbits over disorder realisations for each lattice size (paper Fig. 14:
+    tau = 10 %, model 3, t = 1e8), and how many blew up: a chaos study of the study engine
+    (`fputlab.engine.run_study`, kind "chaos").
 
     An orbit counts as chaotic when SALI falls below its threshold on the finite orbit
-    (`ChaosResult.classify`); a blow-up is never counted as chaotic. The realisations run on
-    the ensemble engine (`fputlab.ensemble.run_calls`: local processes, or a Dask cluster with
-    `scheduler`). The splitting schemes run the orbits of one N in the vector lanes of the
-    batched kernel (`fputlab.chaos.batch.lyapunov_batch`: the same numbers, several times
-    cheaper for N <= 16). For t = 1e8 use the resumable `fputlab.chaos.study`.
+    (`ChaosResult.classify`); a blow-up is never counted as chaotic. The orbits run on the
+    ensemble engine (local processes, or a Dask cluster with `scheduler`); the splitting schemes
+    run the orbits of one N in the vector lanes of the batched kernel (the same numbers, several
+    times cheaper for N <= 16). lambda(t), SALI(t), GALI(t) are sampled log-spaced at
+    `samples_per_decade` (default 40) from the first renormalisation, the same times whatever
+    t_end.
 
     Parameters
     ----------
@@ -69,10 +422,11 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
         Lattice sizes (each >= 2).
     realisations : int, optional
         Disorder realisations per N (>= 1), seeds ``first_seed, first_seed + 1, ...``.
-    tau : float, optional
-        Variability in percent (the paper's 10 %).
+    tau : float or sequence of float, optional
+        Variability in percent (the paper's 10 %); several: a grid over tau.
     t_end : float, optional
-        Final time of every orbit.
+        Final time of every orbit. With `work_dir`, a larger t_end than the last run's continues
+        every orbit from its saved state (bit for bit).
     model : str, optional
         Lattice model (default "nonlinear", the paper's model 3).
     alpha : float, optional
@@ -82,62 +436,63 @@ def chaotic_fraction(Ns=(4, 8, 16, 32, 64), realisations: int = 30, tau: float =
         classify orbits as the paper's methods do).
     first_seed : int, optional
         Disorder seed of the first realisation.
+    work_dir : path, optional
+        Keep the study on disk: each orbit's result and state written as it finishes; a rerun
+        continues, a changed study is refused (default: in memory).
+    overwrite : bool, optional
+        Discard another study found in `work_dir` instead of refusing.
     workers : int, optional
         Local worker processes (default: all cores).
     scheduler : str or dask.distributed.Client, optional
         Run on a Dask cluster instead (an address "tcp://host:port", a Client or a cluster).
     progress : bool, optional
-        A progress bar over the orbits (tqdm.auto).
+        A progress bar with a cost-weighted ETA.
     **kwargs
-        Passed to `lyapunov` (dt, n_samples, sali_threshold, ...); chaotic orbits stop early
-        unless ``stop_when_chaotic=False`` is given.
+        Chaos settings: dt, rtol, atol, renorm_interval, t_first_sample, samples_per_decade,
+        n_dev, sali_threshold, stop_when_chaotic (default True), blowup_stretch, y0 (one
+        initial state for every orbit, default the paper's mode-1 state), seed (of the random
+        deviation vectors); n_samples (samples up to t_end) is converted to samples per decade.
 
     Returns
     -------
-    dict
-        ``N`` (the sizes), ``percent`` (chaotic orbits per N, in percent), ``blowups`` (blown-up
-        orbits per N), ``classes`` ({N: {class: count}} over `CLASSES`) and ``results``
-        ({N: [ChaosResult, ...]} in seed order).
+    ChaoticFraction
+        A `fputlab.engine.StudyResult`: ``to_xarray()`` (dims N x tau x seed x sample, the class
+        as the string variable ``orbit_class``), ``summary()`` (counts per class, fractions with
+        Wilson 95 % intervals), ``orbits(N)`` (ChaosResult per seed).
 
     Raises
     ------
     ValueError
-        Empty `Ns`, a size below 2, `realisations` < 1, or an invalid option of `lyapunov`.
+        Empty `Ns`, a size below 2, `realisations` < 1, an invalid setting (named), or another
+        study in `work_dir`.
 
     Examples
     --------
     >>> from fputlab.chaos import chaotic_fraction
     >>> out = chaotic_fraction(Ns=(4, 8), realisations=4, t_end=1e3)    # doctest: +SKIP
-    >>> out["percent"], out["classes"][8]                                 # doctest: +SKIP
+    >>> out.summary()                                                    # doctest: +SKIP
     """
-    method, kwargs = ensemble_defaults(method, kwargs)
-    _, Ns, realisations = check_ensemble([tau], Ns, realisations)
-    Ns = [int(N) for N in Ns]
-    seeds = [first_seed + r for r in range(realisations)]
-    batched = method in BATCH_METHODS and set(kwargs) <= set(
-        inspect.signature(lyapunov_batch).parameters)
-    if batched:    # orbits of one N in the vector lanes: chunks of >= 4 orbits, one per core
-        cores = workers or os.cpu_count() or 1
-        per = max(4, -(-realisations // cores))
-        calls = [((N, tau, seeds[i:i + per], model, alpha, t_end, method, kwargs),)
-                 for N in Ns for i in range(0, realisations, per)]
-        fn = _batch_of_realisations
-    else:
-        calls = [((N, tau, s, model, alpha, t_end, method, kwargs),) for N in Ns for s in seeds]
-        fn = _one_realisation
-    got: dict = {}
-    from tqdm.auto import tqdm
-    with tqdm(total=len(Ns) * realisations, desc="chaos", unit="orbit",
-              disable=None if progress else True) as bar:
-        for _, out, err in run_calls(fn, calls, workers=workers, scheduler=scheduler):
-            if err is not None:
-                raise err
-            for orbit in (out if batched else [out]):
-                got[orbit.N, orbit.seed] = orbit.result
-                bar.update(1)
-    results = {N: [got[N, first_seed + r] for r in range(realisations)] for N in Ns}
-    classes = {N: {c: sum(r.classify() == c for r in results[N]) for c in CLASSES} for N in Ns}
-    percent = [100.0 * classes[N]["chaotic"] / realisations for N in Ns]
-    blowups = [classes[N]["blow-up"] for N in Ns]
-    return {"N": Ns, "percent": percent, "blowups": blowups, "classes": classes,
-            "results": results}
+    taus = [float(t) for t in np.atleast_1d(np.asarray(tau, dtype=float))]
+    _, Ns, realisations = check_ensemble(taus, Ns, realisations)
+    first_seed = _int(first_seed, "first_seed", C_U64)
+    settings = dict(kwargs)
+    if "seed" in settings:
+        settings["deviation_seed"] = settings.pop("seed")
+    if "n_samples" in settings:
+        n = _int(settings.pop("n_samples"), "n_samples")
+        if n < 2:
+            raise ValueError(f"n_samples must be >= 2 (got {n})")
+        t_first = settings.get("t_first_sample") or settings.get("renorm_interval") or \
+            _C["renorm_interval"]
+        decades = max(1.0, math.log10(max(_real(t_end, "t_end"), t_first) / t_first))
+        settings.setdefault("samples_per_decade", max(1, math.ceil((n - 1) / decades)))
+    if "y0" in settings and settings["y0"] is not None:
+        settings["y0"] = [float(v) for v in np.asarray(settings["y0"], float).ravel()]
+    settings.update(model=model, alpha=alpha, method=method)
+    grid = {"N": Ns, "tau": taus, "seed": [first_seed + r for r in range(realisations)]}
+    r = run_study("chaos", grid, settings, t_end, work_dir=work_dir, overwrite=overwrite,
+                  workers=workers, scheduler=scheduler, progress=progress)
+    return ChaoticFraction(r.kind, r.dataset, r.work_dir, r.computed, r.resumed, r.reused)
+
+
+

@@ -1,28 +1,17 @@
 """`fputlab chaos`: mLE and SALI of one orbit, or the chaotic fraction (Fig. 14)."""
 from __future__ import annotations
 
-from typing import NamedTuple
-
-import numpy as np
+import json
 
 from ._common import (_checkpoint_kwargs, _emit, _ensemble_lattice_check, _g, _homogeneous_check,
                       _integrator_kwargs, _lattice, _new_file, _output_paths, _positive,
-                      _run_summary, _write_h5)
+                      _run_summary)
 from .parsers import (_alias, _checkpoint_options, _ensemble_options, _fill, _finite_positive,
                       _integrator_options, _lattice_options, _one, _output_options,
                       _resolve_single_lattice, _sub, _time_options, python_defaults)
 
-class ChaosRow(NamedTuple):
-    """One orbit of `fputlab chaos --realisations R`, a row of its HDF5 file's "records"."""
-    N: int
-    realisation: int
-    mle: float
-    sali: float
-    t_final: float
-
-
 def cmd_chaos(a):
-    from ..chaos import chaotic_fraction, lyapunov
+    from ..chaos import CLASSES, chaotic_fraction, lyapunov
     if a.scheduler and not a.fraction:
         raise ValueError("--scheduler: only for the chaotic fraction (--realisations > 1 or "
                          "several --N)")
@@ -44,18 +33,20 @@ def cmd_chaos(a):
                                model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
                                workers=a.workers, scheduler=a.scheduler, progress=not a.json,
                                **opts)
-        summary = {"N": out["N"], "percent_chaotic": out["percent"],
-                   "blew_up": out["blowups"], "classes": out["classes"], "tau": a.tau,
-                   "t_end": a.t_end, "method": out["results"][out["N"][0]][0].method}
+        ds = out.to_xarray()
+        rows = out.summary()
+        summary = {"N": [r["N"] for r in rows],
+                   "fraction_chaotic": [r["fraction_chaotic"] for r in rows],
+                   "fraction_chaotic_95": [[r["fraction_chaotic_low"],
+                                            r["fraction_chaotic_high"]] for r in rows],
+                   "blew_up": [r["blow-up"] for r in rows],
+                   "classes": {r["N"]: {c: r[c] for c in CLASSES} for r in rows},
+                   "tau": a.tau, "t_end": a.t_end,
+                   "method": json.loads(ds.attrs["settings"])["method"]}
         if a.out:
-            rows = [ChaosRow(N, i, r.mle_final, float(r.sali[-1]) if r.sali.size else np.nan,
-                             r.t_final)
-                    for N in out["N"] for i, r in enumerate(out["results"][N])]
-            _write_h5(a.out, {"model": a.model, "tau": a.tau, "t_end": a.t_end,
-                              "method": a.method,
-                              "columns": ", ".join(ChaosRow._fields)},
-                      {"N": out["N"], "percent_chaotic": out["percent"],
-                       "records": np.array([tuple(r) for r in rows], dtype=float)})
+            # the labelled result (netCDF-4/HDF5: N x tau x seed x sample, classes as strings)
+            from ..io.atomic import write_atomic
+            write_atomic(a.out, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
             summary["out"] = a.out
         _emit(summary, a.json)
         return 0

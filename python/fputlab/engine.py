@@ -1,0 +1,431 @@
+"""The study engine: every ensemble of fputlab is a study, and a study is data.
+
+A study is a declarative `StudySpec`: the *kind* of task (what one grid point computes: chaos
+indicators, a blow-up time, ...), the parameter *grid* (e.g. N x tau x seed), the *settings*
+every task shares (model, method, dt, ...) and *t_end*. `run_study` turns it into tasks, runs
+them on the one ensemble engine (`fputlab._engine.run_calls`: a local process pool or a Dask
+cluster) and returns a `StudyResult`, a labelled `xarray.Dataset` underneath.
+
+With ``work_dir`` the study lives on disk (`fputlab.io.store`): the spec with its key (a hash
+of kind, grid and settings, t_end excluded), one file per task replaced atomically each time
+the task reports, the merged result as netCDF. A rerun continues; a larger t_end continues every
+unfinished task from its saved state (bit for bit, for the kinds that keep one); a changed spec
+is refused (``overwrite=True`` or a new directory); a second runner is refused (fcntl lock).
+Without ``work_dir`` everything stays in memory, for small jobs.
+
+Kinds are registered in one table, `KINDS`: name -> "module:attribute" of a `StudyKind`,
+imported when first used (the kinds live with their physics, above this module). See
+docs/architecture.md, "Studies", for the interface.
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib
+import json
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._engine import chunks, run_calls, total_threads
+
+__all__ = ["StudySpec", "StudyKind", "StudyResult", "KINDS", "get_kind", "run_study",
+           "wilson_interval"]
+
+#: the study kinds: name -> "module:attribute" of its StudyKind. One line per kind.
+KINDS = {
+    "chaos": "fputlab.chaos.ensemble:CHAOS_KIND",
+}
+
+
+def get_kind(name: str) -> "StudyKind":
+    """The registered StudyKind called `name` (ValueError naming the known ones)."""
+    if not isinstance(name, str) or name not in KINDS:
+        raise ValueError(f"kind {name!r} is unknown (known: {', '.join(sorted(KINDS))})")
+    module, attr = KINDS[name].split(":")
+    return getattr(importlib.import_module(module), attr)
+
+
+class StudyKind:
+    """What one kind of task is. Subclass it, give it an instance in its module and a line in
+    `KINDS`.
+
+    Attributes
+    ----------
+    name : str
+        As in `KINDS`.
+    version : int
+        Part of the spec's key: bump it when a task's numbers change.
+    dims : tuple of str
+        The grid dimensions, in order (e.g. ("N", "tau", "seed")).
+    batch : int
+        Tasks of one `group` are given to one call in chunks of at least this many (1: no
+        batching; the chaos kind: its vector lanes).
+    variables : dict
+        name -> (extra dims, dtype, units, long_name) of each value a task reports; extra dims
+        (e.g. ("sample",)) follow the grid dims. dtype str: a string variable.
+    """
+    name = ""
+    version = 1
+    dims: tuple = ()
+    batch = 1
+    variables: dict = {}
+
+    def normalise(self, grid: dict, settings: dict) -> tuple[dict, dict]:
+        """The grid ({dim: list of values}) and settings, checked (ValueError naming the
+        parameter) and completed with the defaults (which come from C)."""
+        raise NotImplementedError
+
+    def group(self, coords: dict, settings: dict, previous) -> object:
+        """A key: tasks with equal keys may share one call (e.g. one N and one step count for
+        the chaos lanes); None: each task alone."""
+        return None
+
+    def cost(self, coords: dict, settings: dict) -> float:
+        """Relative cost of one unit of t of this task (the ETA and the order of submission)."""
+        return 1.0
+
+    def run(self, settings: dict, coords: list, previous: list, t_end: float) -> list:
+        """Worker side (looked up by name in the worker): advance each task (`coords[i]`, from
+        its previous report `previous[i]`, or from the start if None) to t_end. Returns one
+        report per task: {t (= t_end: the time it was advanced to), done, message, cpu,
+        values: {name: array}, state: {name: array} or None}. `done`: a larger t_end changes
+        nothing (a decided orbit, a blow-up, a failure)."""
+        raise NotImplementedError
+
+    #: attributes (units, long_name) of the grid coordinates
+    coord_attrs: dict = {}
+
+    def extra_sizes(self, settings: dict, t_end: float) -> dict:
+        """{extra dim: length} of the merged arrays at this t_end."""
+        return {}
+
+    def extra_coords(self, settings: dict, arrays: dict) -> dict:
+        """Coordinates of the extra dims (e.g. the sample times), from the merged arrays."""
+        return {}
+
+    def summary(self, ds) -> list:
+        """Rows of the summary table: dicts of grid coords, counts and fractions."""
+        return []
+
+
+@dataclass(frozen=True)
+class StudySpec:
+    """kind, grid ({dim: tuple of values}), settings (JSON-able), t_end."""
+    kind: str
+    grid: dict
+    settings: dict
+    t_end: float
+
+    def doc(self) -> dict:
+        k = get_kind(self.kind)
+        return {"kind": self.kind, "kind_version": k.version,
+                "grid": {d: list(self.grid[d]) for d in k.dims}, "settings": self.settings}
+
+    def key(self) -> str:
+        """Hash of everything but t_end: a study with a larger t_end is the same study, run
+        further."""
+        text = json.dumps(self.doc(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    def tasks(self) -> list[dict]:
+        dims = get_kind(self.kind).dims
+        out = [{}]
+        for d in dims:
+            out = [{**c, d: v} for c in out for v in self.grid[d]]
+        return out
+
+
+def task_id(coords: dict) -> str:
+    return "_".join(f"{k}{v!r}" if isinstance(v, float) else f"{k}{v}" for k, v in coords.items())
+
+
+def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion k/n (95 % by default); (nan, nan) if n = 0."""
+    if n <= 0:
+        return (math.nan, math.nan)
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
+
+
+@dataclass(repr=False)
+class StudyResult:
+    """A finished (or partly finished) study: `to_xarray()` is the labelled result,
+    `summary()` the table of counts and fractions with Wilson 95 % intervals."""
+    kind: str
+    dataset: object
+    work_dir: str | None = None
+    computed: int = 0
+    resumed: int = 0
+    reused: int = 0
+    extras: dict = field(default_factory=dict)
+
+    def to_xarray(self):
+        """The result as an xarray.Dataset (dims: the grid, then e.g. sample)."""
+        return self.dataset
+
+    def summary(self) -> list[dict]:
+        """Rows {grid coords..., n, <class or outcome> counts, fraction_*, *_low, *_high}."""
+        return get_kind(self.kind).summary(self.dataset)
+
+    def __repr__(self) -> str:
+        ds = self.dataset
+        shape = " x ".join(f"{d}={ds.sizes[d]}" for d in get_kind(self.kind).dims)
+        where = f", work_dir={self.work_dir!r}" if self.work_dir else ""
+        return (f"StudyResult(kind={self.kind!r}, {shape}, t_end={ds.attrs.get('t_end'):g}, "
+                f"computed={self.computed}, reused={self.reused}{where})")
+
+    def _repr_html_(self):
+        rows = self.summary()
+        if not rows:
+            return f"<pre>{self!r}</pre>"
+        head = "".join(f"<th>{k}</th>" for k in rows[0])
+        body = "".join("<tr>" + "".join(f"<td>{v:.3g}</td>" if isinstance(v, float) else
+                                        f"<td>{v}</td>" for v in r.values()) + "</tr>"
+                       for r in rows)
+        return f"<p>{self!r}</p><table><tr>{head}</tr>{body}</table>"
+
+
+def _call(kind_name: str, settings: dict, coords: list, previous: list, t_end: float) -> list:
+    """The worker's entry point: the kind's run (the kind is looked up by name in the worker)."""
+    return get_kind(kind_name).run(settings, coords, previous, t_end)
+
+
+class _Progress:
+    """One progress display for every study: orbit-time done over orbit-time to do, with an ETA
+    from the measured cost per unit of t of each task (cost-weighted: the long N = 64 orbits
+    count as what they cost, whether they have started or not)."""
+
+    def __init__(self, kind, settings, todo, t_end, enabled):
+        from tqdm.auto import tqdm
+        self.kind, self.settings, self.t_end = kind, settings, t_end
+        self.left = {task_id(c): (kind.cost(c, settings), t_end - t0) for c, t0 in todo}
+        self.total = sum(w * dt for w, dt in self.left.values()) or 1.0
+        self.done_work, self.cpu, self.t0 = 0.0, 0.0, time.monotonic()
+        self.bar = tqdm(total=len(todo), desc=f"{kind.name} study", unit="task",
+                        disable=None if enabled else True)
+
+    def update(self, tid: str, report: dict, cpu: float) -> None:
+        w, dt = self.left.pop(tid, (0.0, 0.0))
+        self.done_work += w * dt
+        self.cpu += cpu
+        self.bar.update(1)
+        if self.done_work > 0 and self.left:
+            rate = (time.monotonic() - self.t0) / self.done_work
+            eta = rate * sum(w * d for w, d in self.left.values())
+            self.bar.set_postfix_str(f"ETA {eta:.0f} s (cost-weighted)")
+
+    def close(self):
+        self.bar.close()
+
+
+def run_study(kind: str, grid: dict, settings: dict, t_end: float, *, work_dir=None,
+              overwrite: bool = False, workers: int | None = None, scheduler=None,
+              progress: bool = False) -> StudyResult:
+    """Run a study (see the module docstring) and return its `StudyResult`.
+
+    Parameters
+    ----------
+    kind : str
+        A kind of `KINDS` ("chaos", "blowup", ...).
+    grid : dict
+        {dim: values} over the kind's dims.
+    settings : dict
+        What every task shares (the kind's options; defaults from C).
+    t_end : float
+        How far every task runs.
+    work_dir : path, optional
+        The study's directory (created; continued on a rerun). Default: in memory.
+    overwrite : bool, optional
+        Discard the results of another study in `work_dir` instead of refusing.
+    workers : int, optional
+        Local processes (default: all cores).
+    scheduler : str, dask.distributed.Client or cluster, optional
+        Run on Dask: tasks are sized by the cluster's total threads.
+    progress : bool, optional
+        A progress bar with a cost-weighted ETA.
+
+    Raises
+    ------
+    ValueError
+        Invalid grid, settings or t_end (named), another study in `work_dir`, or a t_end below
+        the one the study already reached.
+    fputlab.io.atomic.DirectoryBusy
+        Another process is running this study.
+    fputlab._engine.SchedulerLost
+        The Dask scheduler went away; the finished tasks are in `work_dir`: rerun to continue.
+    """
+    k = get_kind(kind)
+    if not isinstance(grid, dict) or set(grid) != set(k.dims):
+        raise ValueError(f"grid must have exactly the dims {list(k.dims)} (got "
+                         f"{sorted(grid) if isinstance(grid, dict) else type(grid).__name__})")
+    grid, settings = k.normalise(dict(grid), dict(settings))
+    try:
+        t_end = float(t_end)
+    except (TypeError, ValueError):
+        raise ValueError(f"t_end must be a number (got {t_end!r})") from None
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
+    spec = StudySpec(kind, grid, settings, t_end)
+    store = None
+    if work_dir is not None:
+        from .io.store import StudyStore
+        store = StudyStore(work_dir, {**spec.doc(), "key": spec.key()}, overwrite=overwrite)
+    try:
+        return _run(k, spec, store, workers, scheduler, progress)
+    finally:
+        if store is not None:
+            store.close()
+
+
+#: the horizons of a long study: every task reaches one before any goes further, so an
+#: interruption loses at most one piece per task and the classes are known for every task at
+#: the same time
+HORIZONS = (1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12)
+
+
+def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
+    t_end = spec.t_end
+    if store is not None:
+        reached = store.t_end()
+        if reached is not None and t_end < reached:
+            raise ValueError(f"t_end = {t_end:g} is below the {reached:g} this study was already "
+                             "run to: use a new work_dir for a shorter study")
+    tasks = spec.tasks()
+    memory: dict[str, dict] = {}        # in-memory reports (no work_dir)
+
+    def previous(c):
+        return store.read_task(task_id(c), c) if store is not None else memory.get(task_id(c))
+    todo, reused, resumed = [], 0, 0
+    for c in tasks:
+        rep = previous(c)
+        if rep is not None and (rep["done"] or rep["t"] >= t_end):
+            reused += 1
+        else:
+            resumed += rep is not None
+            todo.append((c, rep["t"] if rep is not None else 0.0))
+    computed = 0
+    if todo:
+        if store is not None:
+            store.set_t_end(t_end)
+        threads = total_threads(workers, scheduler)
+        bar = _Progress(k, spec.settings, todo, t_end, progress)
+        t_min = min(t0 for _, t0 in todo)
+        rounds = [h for h in HORIZONS if t_min < h < t_end] + [t_end]
+        try:
+            for h in rounds:
+                calls = _plan(k, spec, [c for c, _ in todo], previous, h, threads)
+                for call, reports, err in run_calls(_call, calls, workers=workers,
+                                                    scheduler=scheduler):
+                    if err is not None:
+                        raise err
+                    for c, rep in zip(call[2], reports):
+                        if store is not None:
+                            store.write_task(task_id(c), c, rep)
+                        else:
+                            memory[task_id(c)] = rep
+                        if rep["done"] or h == t_end:
+                            computed += 1
+                            bar.update(task_id(c), rep, rep.get("cpu", 0.0))
+        finally:
+            bar.close()
+    elif store is not None and store.t_end() is None:
+        store.set_t_end(t_end)
+    ds = _merge(k, spec, tasks, store, memory)
+    if store is not None:
+        store.write_result(ds)
+    return StudyResult(k.name, ds, str(store.path) if store is not None else None,
+                       computed=computed, resumed=resumed, reused=reused)
+
+
+def _plan(k, spec, todo, previous, h, threads) -> list:
+    """The calls that advance the unfinished tasks of `todo` to h: tasks of one `group` key
+    together in chunks (one per thread, at least `k.batch`), the costly ones first."""
+    groups: dict = {}
+    for c in todo:
+        rep = previous(c)
+        if rep is not None and (rep["done"] or rep["t"] >= h):
+            continue
+        key = k.group(c, spec.settings, rep)
+        groups.setdefault(key, []).append((c, rep))
+    calls = []
+    for key, members in groups.items():
+        pieces = chunks(members, threads, k.batch) if key is not None else [[m] for m in members]
+        calls += [(k.name, spec.settings, [m[0] for m in p], [m[1] for m in p], h)
+                  for p in pieces]
+    calls.sort(key=lambda call: -sum(k.cost(c, spec.settings) for c in call[2]))
+    return calls
+
+
+def _merge(k, spec, tasks, store, memory):
+    """The labelled result: one variable per reported value over the grid dims (+ extra dims),
+    filled task by task from the store (or memory) in one pass: the client holds the arrays,
+    never all the reports."""
+    import xarray as xr
+    from ._lowlevel import VERSION
+    shape = tuple(len(spec.grid[d]) for d in k.dims)
+    index = {d: {v: i for i, v in enumerate(spec.grid[d])} for d in k.dims}
+    sizes = k.extra_sizes(spec.settings, spec.t_end)
+    arrays = {}
+    for name, (edims, dtype, _, _) in k.variables.items():
+        full = shape + tuple(sizes[d] for d in edims)
+        if dtype is str:
+            arrays[name] = np.full(full, "", dtype=object)
+        elif np.dtype(dtype).kind == "f":
+            arrays[name] = np.full(full, np.nan)
+        else:
+            arrays[name] = np.zeros(full, dtype=dtype)
+    t_reached = np.full(shape, np.nan)
+    finished = np.zeros(shape, dtype=bool)
+    for c in tasks:
+        rep = store.read_task(task_id(c), c) if store is not None else memory.get(task_id(c))
+        if rep is None:
+            continue
+        at = tuple(index[d][c[d]] for d in k.dims)
+        t_reached[at], finished[at] = rep["t"], rep["done"]
+        for name, (edims, dtype, _, _) in k.variables.items():
+            v = rep["values"].get(name)
+            if v is None:
+                continue
+            if edims:
+                v = np.asarray(v)[tuple(slice(0, sizes[d]) for d in edims)]
+                arrays[name][at + tuple(slice(0, n) for n in v.shape)] = v
+            else:
+                arrays[name][at] = str(v) if dtype is str else v
+    # an extra dim ends where the last value of any task does (the sample grid runs past t_end)
+    for d in sizes:
+        used = 0
+        for name, (edims, dtype, _, _) in k.variables.items():
+            if d in edims and dtype is float:
+                axis = len(k.dims) + edims.index(d)
+                other = tuple(i for i in range(arrays[name].ndim) if i != axis)
+                filled = np.flatnonzero(np.any(np.isfinite(arrays[name]), axis=other))
+                used = max(used, int(filled[-1]) + 1 if filled.size else 0)
+        for name, (edims, _, _, _) in k.variables.items():
+            if d in edims:
+                axis = len(k.dims) + edims.index(d)
+                arrays[name] = np.take(arrays[name], np.arange(used), axis=axis)
+    coords = {d: list(spec.grid[d]) for d in k.dims}
+    coords.update(k.extra_coords(spec.settings, arrays))
+    data = {}
+    for name, (edims, dtype, units, long_name) in k.variables.items():
+        arr = arrays[name].astype(str) if dtype is str else arrays[name]
+        attrs = {"long_name": long_name}
+        if units:
+            attrs["units"] = units
+        data[name] = (k.dims + tuple(edims), arr, attrs)
+    data["t_reached"] = (k.dims, t_reached, {"units": "1", "long_name": "time reached"})
+    data["finished"] = (k.dims, finished,
+                        {"long_name": "task finished: a larger t_end adds nothing"})
+    ds = xr.Dataset(data, coords=coords)
+    for d, attrs in k.coord_attrs.items():
+        if d in ds.coords:
+            ds[d].attrs.update(attrs)
+    ds.attrs.update({"kind": spec.kind, "t_end": spec.t_end, "study_key": spec.key(),
+                     "settings": json.dumps(spec.settings, sort_keys=True),
+                     "fputlab_version": VERSION})
+    return ds
