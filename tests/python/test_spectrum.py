@@ -273,3 +273,31 @@ def test_megno_in_the_chaos_study():
         assert float(ds["megno"].sel(N=8, seed=seed).squeeze()) == pytest.approx(
             one.megno_final, rel=1e-10)
         assert orbit.megno.shape == orbit.t.shape and np.all(np.isfinite(orbit.megno))
+
+
+# ---- the spectrum study kind --------------------------------------------------------------------
+
+def test_spectrum_study_is_lyapunov_spectrum_per_realisation_and_continues(tmp_path):
+    from fputlab.chaos import lyapunov_spectra
+    kw = dict(Ns=(4, 6), realisations=2, tau=10.0, model="hamiltonian", alpha=0.0, beta=1.0,
+              amplitude=3.0, workers=1)
+    out = lyapunov_spectra(t_end=200.0, **kw)
+    ds = out.to_xarray()
+    assert ds["exponents"].dims == ("N", "tau", "seed", "exponent") and ds.sizes["exponent"] == 12
+    for N in (4, 6):
+        for seed in (1, 2):
+            lat = fputlab.Lattice(N, 0.0, "hamiltonian", beta=1.0, tau=10.0, seed=seed)
+            one = lyapunov_spectrum(lat, 200.0, y0=lat.mode_state(1, 3.0), method="srkn14a6",
+                                    dt=0.5)
+            got = ds["exponents"].sel(N=N, seed=seed).squeeze().values
+            np.testing.assert_array_equal(got[:2 * N], one.exponents)
+            assert np.all(np.isnan(got[2 * N:]))
+            assert float(ds["ks_entropy"].sel(N=N, seed=seed).squeeze()) == one.ks_entropy
+    rows = out.summary()
+    assert [(r["N"], r["n"]) for r in rows] == [(4, 2), (6, 2)]
+    # in a work_dir, to 200 and then on to 400: bit for bit the run straight to 400
+    lyapunov_spectra(t_end=200.0, work_dir=tmp_path / "s", **kw)
+    resumed = lyapunov_spectra(t_end=400.0, work_dir=tmp_path / "s", **kw).to_xarray()
+    straight = lyapunov_spectra(t_end=400.0, **kw).to_xarray()
+    np.testing.assert_array_equal(resumed["exponents"].values, straight["exponents"].values)
+    np.testing.assert_array_equal(resumed["history"].values, straight["history"].values)

@@ -15,10 +15,12 @@ from .result import CLASSES, ChaosResult, classify_orbit
 from .single import ENSEMBLE_DT, ENSEMBLE_METHOD, gali, lyapunov, sali
 from .spectrum import (CLVResult, SpectrumResult, covariant_lyapunov_vectors,
                        covariant_vectors_from_qr, inverse_participation_ratio,
-                       kaplan_yorke_dimension, ks_entropy, lyapunov_spectrum)
+                       kaplan_yorke_dimension, ks_entropy, lyapunov_spectra,
+                       lyapunov_spectrum)
 
 __all__ = ["lyapunov", "lyapunov_batch", "chaotic_fraction", "ChaosResult", "classify_orbit",
            "CLASSES", "BATCH_METHODS", "ENSEMBLE_METHOD", "ENSEMBLE_DT", "OrbitRecord",
            "ensemble_defaults", "sali", "gali", "lyapunov_spectrum", "SpectrumResult",
            "covariant_lyapunov_vectors", "CLVResult", "covariant_vectors_from_qr",
-           "inverse_participation_ratio", "kaplan_yorke_dimension", "ks_entropy"]
+           "inverse_participation_ratio", "kaplan_yorke_dimension", "ks_entropy",
+           "lyapunov_spectra"]

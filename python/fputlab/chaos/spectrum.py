@@ -19,6 +19,7 @@ from .._display import ResultMixin, dataclass_repr, fmt, require_xarray, scalar_
 from .._errors import IntegrationError, Interrupted, check, last_error
 from .._pacing import Pacer, first_span
 from .._validate import C_U64, _int, _real
+from ..engine import StudyKind, StudyResult, run_study
 from ..integrate import method_info
 from ..lattice import Lattice
 
@@ -483,3 +484,246 @@ def covariant_lyapunov_vectors(lattice: Lattice, t_window: float, *, k: int | No
                             "t_forward": m_a * tau, "t_backward": n_b * tau, "dt": io.dt})
     res._scratch = tmp                      # the memory-mapped files live as long as the result
     return res
+
+
+# ---- the spectrum study kind: spectra of many realisations -------------------------------------
+# As the chaos kind: the C run's sample grid ends beyond t_end (log-spaced at samples_per_decade
+# from renormalize_every, the same times whatever t_end), each task keeps the integrator and the
+# fpl_spectrum accumulators, so a larger t_end continues every spectrum bit for bit.
+
+#: the settings of spectrum studies and their defaults (C's; method None: the chaos ensembles'
+#: srkn14a6 at dt = 0.5)
+_SPECTRUM_SETTINGS = {
+    "model": "nonlinear", "alpha": 0.25, "beta": 0.0, "method": None, "dt": ll.DT,
+    "rtol": ll.RTOL, "atol": ll.ATOL, "renormalize_every": _S["renorm_interval"], "k": None,
+    "amplitude": 1.0, "samples_per_decade": 10, "deviation_seed": _S["seed"],
+}
+
+
+def _spectrum_grid(settings: dict, t_end: float) -> tuple[float, int]:
+    """(C t_end, C n_samples) of the log grid from renormalize_every that holds t_end."""
+    t_first = settings["renormalize_every"]
+    K = max(1, math.floor(math.log10(max(t_end / t_first, 1.0))) + 1)
+    return t_first * 10.0 ** K, K * settings["samples_per_decade"] + 1
+
+
+def _study_lattice(settings: dict, N: int, tau: float, seed: int) -> Lattice:
+    if settings["model"] == "homogeneous":
+        return Lattice(N, settings["alpha"], "homogeneous", beta=settings["beta"])
+    return Lattice(N, settings["alpha"], settings["model"], beta=settings["beta"], tau=tau,
+                   seed=seed)
+
+
+def _spectrum_task(settings, N, tau, seed, prev, t_end) -> dict:
+    """One spectrum through fpl_spectrum, from its saved state if any, to t_end."""
+    cpu0 = time.process_time()
+    lat = _study_lattice(settings, N, tau, seed)
+    k = settings["k"] or 2 * N
+    T, n = _spectrum_grid(settings, t_end)
+    adaptive = method_info(settings["method"])["adaptive"]
+    io = ll.integrator_options(0.0 if adaptive else settings["dt"], settings["rtol"],
+                               settings["atol"])
+    so = ll.spectrum_options(T, renorm_interval=settings["renormalize_every"], n_exponents=k,
+                             n_samples=n, seed=settings["deviation_seed"])
+    s = ll.SpectrumHandle(lat._h, settings["method"], io, 0.0,
+                          lat.mode_state(1, settings["amplitude"]), None, so)
+    t_s, hist = np.full(n, np.nan), np.full((n, k), np.nan)
+    message, done = "", False
+    if prev is not None:
+        st, v = prev["state"], prev["values"]
+        s.integrator().restore(int(st["steps"]), float(st["t"]),
+                               np.ascontiguousarray(st["y"], float))
+        s.restore(np.ascontiguousarray(st["acc"], float))
+        old_t, old_h = np.asarray(v["t_sample"], float), np.asarray(v["history"], float)
+        t_s[:old_t.size] = old_t
+        hist[:old_h.shape[1], :old_h.shape[0]] = old_h.T
+    try:
+        if s.advance(t_end, t_s, hist) > 0:
+            message, done = last_error(), True      # a stopping criterion: nothing further
+    except (IntegrationError, ValueError) as err:  # a numerical failure: the task ends here
+        message, done = str(err), True
+    res = s.get_result()
+    lam = s.exponents()
+    ih = s.integrator()
+    state = {"steps": np.int64(ih.steps()), "t": np.float64(ih.time()),
+             "y": ih.get_state().ravel(), "acc": s.save()}
+    values = {"exponents": lam, "ks_entropy": ks_entropy(lam),
+              "kaplan_yorke_dimension": kaplan_yorke_dimension(lam),
+              "t_final": float(res.t_final), "steps": int(res.steps), "message": message,
+              "t_sample": t_s, "history": hist.T}
+    return {"t": t_end, "done": done, "message": message, "cpu": time.process_time() - cpu0,
+            "values": values, "state": None if done else state}
+
+
+class SpectrumKind(StudyKind):
+    """The Lyapunov spectrum of one orbit per (N, tau, seed) (`lyapunov_spectrum`'s method):
+    the exponents at t_end, the KS entropy and Kaplan-Yorke dimension, the convergence on a
+    log grid; the state kept, so a larger t_end continues every spectrum bit for bit."""
+    name = "spectrum"
+    version = 1
+    dims = ("N", "tau", "seed")
+    batch = 1
+    variables = {
+        "exponents": (("exponent",), float, "1/time",
+                      "Lyapunov exponents at the end (QR order; NaN beyond 2N or k)"),
+        "ks_entropy": ((), float, "1/time", "Kolmogorov-Sinai entropy (sum of the positive "
+                                            "exponents)"),
+        "kaplan_yorke_dimension": ((), float, "1", "Kaplan-Yorke dimension"),
+        "t_final": ((), float, "1", "time of the last renormalisation"),
+        "steps": ((), np.int64, "1", "integrator steps"),
+        "message": ((), str, "", "how the run ended (empty: it can go on)"),
+        "t_sample": (("sample",), float, "1", "sample time of the spectrum"),
+        "history": (("exponent", "sample"), float, "1/time",
+                    "finite-time Lyapunov exponents lambda_i(t)"),
+    }
+    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
+                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
+                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+                   "exponent": {"long_name": "exponent index i", "units": "1"},
+                   "t": {"long_name": "sample time", "units": "1"}}
+
+    def normalise(self, grid, settings):
+        def ints(values, name, low):
+            vals = [_int(v, name) for v in np.atleast_1d(values).tolist()]
+            if not vals or any(v < low for v in vals) or len(set(vals)) != len(vals):
+                raise ValueError(f"{name} must be distinct integers >= {low} (got {vals})")
+            return vals
+        taus = [_real(v, "tau") for v in np.atleast_1d(grid["tau"]).tolist()]
+        if not taus or any(t < 0 for t in taus) or len(set(taus)) != len(taus):
+            raise ValueError(f"tau must be distinct values >= 0 (got {taus})")
+        grid = {"N": ints(grid["N"], "Ns", 2), "tau": taus, "seed": ints(grid["seed"], "seeds", 0)}
+        unknown = set(settings) - set(_SPECTRUM_SETTINGS)
+        if unknown:
+            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of spectrum studies "
+                             f"(known: {', '.join(sorted(_SPECTRUM_SETTINGS))})")
+        s = {**_SPECTRUM_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
+        if s["model"] not in ("homogeneous", "hamiltonian", "nonlinear"):
+            raise ValueError(f"model {s['model']!r} is unknown")
+        if s["model"] == "homogeneous" and any(t != 0 for t in taus):
+            raise ValueError("tau: the homogeneous model has no disorder (use tau=0)")
+        if s["method"] is None:
+            from .single import ENSEMBLE_DT, ENSEMBLE_METHOD
+            s["method"] = ENSEMBLE_METHOD
+            s["dt"] = ENSEMBLE_DT if settings.get("dt") is None else settings["dt"]
+        if not isinstance(s["method"], str):
+            raise ValueError(f"method must be a string (got {s['method']!r})")
+        adaptive = method_info(s["method"])["adaptive"]
+        for name in ("alpha", "beta", "dt", "rtol", "atol", "renormalize_every", "amplitude"):
+            s[name] = _real(s[name], name)
+        for name in ("dt", "rtol", "atol", "renormalize_every"):
+            if not s[name] > 0 and not (name == "dt" and adaptive):
+                raise ValueError(f"{name} must be > 0 (got {s[name]:g})")
+        s["samples_per_decade"] = _int(s["samples_per_decade"], "samples_per_decade")
+        if s["samples_per_decade"] < 1:
+            raise ValueError(f"samples_per_decade must be >= 1 (got {s['samples_per_decade']})")
+        s["deviation_seed"] = _int(s["deviation_seed"], "deviation_seed", C_U64)
+        if s["k"] is not None:
+            s["k"] = _int(s["k"], "k")
+            if not 1 <= s["k"] <= 2 * min(grid["N"]):
+                raise ValueError(f"k must be 1..2N = {2 * min(grid['N'])} (got {s['k']})")
+        # the length of the exponent axis (2N of the largest N, or k)
+        s["n_exponents"] = s["k"] or 2 * max(grid["N"])
+        return grid, s
+
+    def cost(self, coords, settings):
+        k = settings["k"] or 2 * coords["N"]
+        return float(coords["N"] * k)
+
+    def run(self, settings, coords, previous, t_end):
+        return [_spectrum_task(settings, c["N"], c["tau"], c["seed"], p, t_end)
+                for c, p in zip(coords, previous)]
+
+    def extra_sizes(self, settings, t_end):
+        return {"exponent": settings["n_exponents"],
+                "sample": _spectrum_grid(settings, t_end)[1]}
+
+    def extra_coords(self, settings, arrays):
+        ts = arrays["t_sample"].reshape(-1, arrays["t_sample"].shape[-1])
+        counts = np.sum(np.isfinite(ts), axis=1)
+        t = ts[int(np.argmax(counts))] if ts.shape[0] else ts[0:0]
+        n = arrays["exponents"].shape[-1]
+        return {"t": ("sample", t), "exponent": ("exponent", np.arange(1, n + 1))}
+
+    def summary(self, ds):
+        rows = []
+        for N in ds["N"].values:
+            for tau in ds["tau"].values:
+                o = ds.sel(N=N, tau=tau)
+                lam1 = o["exponents"].isel(exponent=0).values
+                rows.append({"N": int(N), "tau": float(tau), "n": int(lam1.size),
+                             "lambda_1_mean": float(np.nanmean(lam1)),
+                             "lambda_1_std": float(np.nanstd(lam1)),
+                             "ks_entropy_mean": float(np.nanmean(o["ks_entropy"].values)),
+                             "kaplan_yorke_mean":
+                                 float(np.nanmean(o["kaplan_yorke_dimension"].values))})
+        return rows
+
+
+SPECTRUM_KIND = SpectrumKind()
+
+
+def lyapunov_spectra(Ns=(4, 8, 16), realisations: int = 10, tau=10.0, *, t_end: float = 1e4,
+                     model: str = "nonlinear", alpha: float = 0.25, method: str | None = None,
+                     first_seed: int = 1, work_dir=None, overwrite: bool = False,
+                     workers: int | None = None, scheduler=None, progress: bool = False,
+                     **settings) -> StudyResult:
+    """Lyapunov spectra of many disorder realisations: a study of the engine (kind
+    "spectrum"), resumable with `work_dir` (a larger t_end continues every spectrum bit for
+    bit).
+
+    Parameters
+    ----------
+    Ns : sequence of int, optional
+        Lattice sizes (each >= 2).
+    realisations : int, optional
+        Disorder realisations per N and tau, seeds ``first_seed, first_seed + 1, ...``.
+    tau : float or sequence of float, optional
+        Variability in percent.
+    t_end : float, optional
+        Final time of every spectrum.
+    model : str, optional
+        Lattice model (default "nonlinear", the paper's model 3).
+    alpha : float, optional
+        Cubic coupling.
+    method : str, optional
+        Integrator (default: the chaos ensembles' srkn14a6 at dt = 0.5).
+    first_seed : int, optional
+        Disorder seed of the first realisation.
+    work_dir : path, optional
+        The study's directory (created; continued on a rerun).
+    overwrite : bool, optional
+        Discard another study in `work_dir`.
+    workers : int, optional
+        Local processes (default: all cores).
+    scheduler : str or dask.distributed.Client, optional
+        Run on a Dask cluster.
+    progress : bool, optional
+        A progress bar.
+    **settings
+        beta, dt, rtol, atol, renormalize_every, k, amplitude (of the mode-1 initial state),
+        samples_per_decade, deviation_seed.
+
+    Returns
+    -------
+    StudyResult
+        ``to_xarray()``: ``exponents`` (N, tau, seed, exponent), ``history`` (..., exponent,
+        sample), ``ks_entropy``, ``kaplan_yorke_dimension``; ``summary()``: mean λ_1, h_KS and
+        D_KY per (N, tau).
+
+    Raises
+    ------
+    ValueError
+        An invalid size, realisation count or setting (named).
+    """
+    realisations = _int(realisations, "realisations")
+    if realisations < 1:
+        raise ValueError(f"realisations must be >= 1 (got {realisations})")
+    taus = [float(t) for t in np.atleast_1d(tau)]
+    if model == "homogeneous":
+        taus = [0.0]
+    grid = {"N": list(np.atleast_1d(Ns)), "tau": taus,
+            "seed": [first_seed + r for r in range(realisations)]}
+    return run_study("spectrum", grid, {"model": model, "alpha": alpha, "method": method,
+                                        **settings},
+                     t_end, work_dir=work_dir, overwrite=overwrite, workers=workers,
+                     scheduler=scheduler, progress=progress)
