@@ -204,6 +204,8 @@ struct fpl_chaos {
     int next;             /* next log-spaced sample index */
     int done;             /* t_end reached, stopped chaotic, or blew up */
     double t_pending;     /* SALI < threshold seen here, chaos not yet confirmed (NaN: none) */
+    double megno_acc[3];  /* MEGNO (fpl_megno_step): the integrals of ell(s) = ln ||w_1(s)||
+                             (unrenormalised) and of Y(s), and Y at the previous renormalisation */
     fpl_chaos_result res;
     double *y, *q, *scale;
 };
@@ -302,7 +304,7 @@ int fpl_chaos_create(const fpl_lattice *lattice, const char *method,
     c->T = opt->t_end - t0;
     c->t_first = opt->t_first_sample > 0.0 ? opt->t_first_sample : fmin(opt->renorm_interval, c->T);
     c->n_renorm = (long)ceil(c->T / opt->renorm_interval - 1e-9);
-    c->res = (fpl_chaos_result){0, t0, NAN, NAN, NAN, 0, NAN, 0, 0, NAN, 0};
+    c->res = (fpl_chaos_result){0, t0, NAN, NAN, NAN, 0, NAN, 0, 0, NAN, 0, NAN};
     *out = c;
     return FPL_OK;
 }
@@ -342,6 +344,18 @@ static int blew_up(fpl_chaos *c, double t, const char *fmt, ...)
 
 int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_out,
                       double *sali_out, double *gali_out)
+{
+    return fpl_chaos_advance_megno(c, t_until, t_out, mle_out, sali_out, gali_out, NULL);
+}
+
+/* MEGNO from the log-growth ell of the first vector at the renormalisation times t_m (Cincotta &
+ * Simo 2000): Y(t) = (2/t) int_0^t s dell(s) = 2 ell(t) - (2/t) int_0^t ell(s) ds (by parts), and
+ * <Y>(t) = (1/t) int_0^t Y(s) ds, both integrals by the trapezoid rule on the renormalisation
+ * grid (fpl_megno_step; exact for ell linear in s, which is what the limits need). ell = ln s
+ * (regular: linear growth) gives Y = 2; ell = lambda s gives Y = lambda t and <Y> = lambda t / 2;
+ * a stable periodic orbit gives 0. */
+int fpl_chaos_advance_megno(fpl_chaos *c, double t_until, double *t_out, double *mle_out,
+                            double *sali_out, double *gali_out, double *megno_out)
 {
     if (!c) return fpl_error(NULL, FPL_ERR_ARG, "chaos: NULL handle");
     if (!(t_until == t_until)) return fpl_error(NULL, FPL_ERR_ARG, "t_until must not be NaN");
@@ -388,7 +402,12 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
             for (long col = 0; col < len; col++) q[(size_t)i * len + col] = y[len * (i + 1) + col] / n;
         }
         if (st) break;
-        c->logsum += log(n1);
+        {
+            const double ell_prev = c->logsum;
+            const double t_prev = c->m == 0 ? c->t0 : c->t0 + (double)c->m * tau;
+            c->logsum += log(n1);
+            res->megno = fpl_megno_step(c->megno_acc, t - t_prev, t - c->t0, ell_prev, c->logsum);
+        }
         res->mle = c->logsum / (t - c->t0);
         res->t_final = t;
         if (k >= 2) {
@@ -421,6 +440,7 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
             if (mle_out) mle_out[res->n_samples] = res->mle;
             if (sali_out) sali_out[res->n_samples] = res->sali;
             if (gali_out) gali_out[res->n_samples] = res->gali;
+            if (megno_out) megno_out[res->n_samples] = res->megno;
             res->n_samples++;
             while (c->next < n_samples && sample_target(c, c->next) <= (t - c->t0) * (1 + 1e-12))
                 c->next++;
@@ -431,7 +451,8 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
 }
 
 /* Accumulators, in this order: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
- * t_final, done, blew_up, t_blowup, completed, t_pending (doubles represent the counts exactly up to 2^53). */
+ * t_final, done, blew_up, t_blowup, completed, t_pending, then MEGNO's ell_int, y_int, y_prev,
+ * megno (doubles represent the counts exactly up to 2^53). */
 int fpl_chaos_save(const fpl_chaos *c, double *acc)
 {
     if (!c || !acc) return fpl_error(NULL, FPL_ERR_ARG, "chaos/acc: NULL pointer");
@@ -439,7 +460,7 @@ int fpl_chaos_save(const fpl_chaos *c, double *acc)
     const double a[FPL_CHAOS_N_ACCUMULATORS] = {
         (double)c->m, c->logsum, c->next, r->n_samples, r->chaotic, r->t_chaotic,
         r->mle, r->sali, r->gali, r->t_final, c->done, r->blew_up, r->t_blowup, r->completed,
-        c->t_pending};
+        c->t_pending, c->megno_acc[0], c->megno_acc[1], c->megno_acc[2], r->megno};
     memcpy(acc, a, sizeof a);
     return FPL_OK;
 }
@@ -471,6 +492,10 @@ int fpl_chaos_restore(fpl_chaos *c, const double *acc)
     c->res.t_blowup = acc[12];
     c->res.completed = acc[13] != 0;
     c->t_pending = acc[14];
+    c->megno_acc[0] = acc[15];
+    c->megno_acc[1] = acc[16];
+    c->megno_acc[2] = acc[17];
+    c->res.megno = acc[18];
     return FPL_OK;
 }
 

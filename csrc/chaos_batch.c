@@ -26,7 +26,7 @@
 #define MSG_LEN 192
 #define FPL_INLINE static inline __attribute__((always_inline))
 
-enum { N_LANE_ACC = 17, N_HEADER = 8 };
+enum { N_LANE_ACC = 21, N_HEADER = 8 };
 #define SAVE_MAGIC 20261123.0
 
 struct fpl_chaos_batch {
@@ -58,6 +58,7 @@ struct fpl_chaos_batch {
     int *groups, *vgroups;
     /* per orbit */
     double *logsum;
+    double *megno_acc;    /* R x 3: MEGNO's integrals per orbit (fpl_megno_step) */
     int *next, *pending;
     fpl_chaos_batch_result *res;
     char (*msg)[MSG_LEN];
@@ -719,6 +720,7 @@ void fpl_chaos_batch_free(fpl_chaos_batch **bp)
     free(B->groups);
     free(B->vgroups);
     free(B->logsum);
+    free(B->megno_acc);
     free(B->next);
     free(B->pending);
     free(B->res);
@@ -911,6 +913,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     ALLOC(B->groups, S / LANES);
     ALLOC(B->vgroups, S / LANES);
     ALLOC(B->logsum, R);
+    ALLOC(B->megno_acc, (size_t)3 * R);
     ALLOC(B->next, R);
     ALLOC(B->pending, R);
     ALLOC(B->res, R);
@@ -919,7 +922,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
         (B->ev.n > 0 && !B->backup) || !B->q || !B->cl || !B->cn || !B->sc || !B->minv ||
         !B->phi || !B->kap || !B->dphi || !B->nrm || !B->inv || !B->acc1 || !B->acc2 ||
         !B->gali || !B->fin || !B->fired || !B->vacated || !B->fired_step || !B->lane_y || !B->final_y || !B->groups || !B->vgroups ||
-        !B->logsum || !B->next || !B->pending || !B->res || !B->msg) {
+        !B->logsum || !B->megno_acc || !B->next || !B->pending || !B->res || !B->msg) {
         fpl_chaos_batch_free(&B);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (chaos batch of %d orbits, N = %d)",
                          R, n);
@@ -954,7 +957,8 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
         B->orbit_of_slot[r] = r;
         B->slot_of_orbit[r] = r;
         B->res[r] = (fpl_chaos_batch_result){0, t0, NAN, NAN, NAN, 0, NAN, 0, NAN,
-                                             FPL_BATCH_BLOWUP_NONE, -1, 0, 0};
+                                             FPL_BATCH_BLOWUP_NONE, -1, 0, 0, NAN};
+        B->megno_acc[3 * r] = B->megno_acc[3 * r + 1] = B->megno_acc[3 * r + 2] = 0.0;
     }
     B->n_active = R;
     /* a criterion that holds at t0 stops the lane there, as fpl_integrator_advance would */
@@ -991,6 +995,13 @@ static double sample_target(const fpl_chaos_batch *B, int i)
 
 int fpl_chaos_batch_advance(fpl_chaos_batch *B, double t_until, double *t_out, double *mle_out,
                             double *sali_out, double *gali_out)
+{
+    return fpl_chaos_batch_advance_megno(B, t_until, t_out, mle_out, sali_out, gali_out, NULL);
+}
+
+int fpl_chaos_batch_advance_megno(fpl_chaos_batch *B, double t_until, double *t_out,
+                                  double *mle_out, double *sali_out, double *gali_out,
+                                  double *megno_out)
 {
     if (!B) return fpl_error(NULL, FPL_ERR_ARG, "batch: NULL handle");
     if (!(t_until == t_until)) return fpl_error(NULL, FPL_ERR_ARG, "t_until must not be NaN");
@@ -1068,7 +1079,12 @@ int fpl_chaos_batch_advance(fpl_chaos_batch *B, double t_until, double *t_out, d
             const int o = B->orbit_of_slot[s];
             if (o < 0 || B->res[o].done) continue;
             fpl_chaos_batch_result *res = &B->res[o];
+            const double ell_prev = B->logsum[o];
             B->logsum[o] += log(B->nrm[s]);
+            /* as fpl_chaos: the interval from the previous renormalisation time */
+            res->megno = fpl_megno_step(B->megno_acc + 3 * (size_t)o,
+                                        t - (B->t0 + (double)(m - 1) * B->tau), t - B->t0,
+                                        ell_prev, B->logsum[o]);
             res->mle = B->logsum[o] / (t - B->t0);
             res->t_final = t;
             res->steps = n_target;
@@ -1097,6 +1113,7 @@ int fpl_chaos_batch_advance(fpl_chaos_batch *B, double t_until, double *t_out, d
                 if (mle_out) mle_out[at] = res->mle;
                 if (sali_out) sali_out[at] = res->sali;
                 if (gali_out) gali_out[at] = res->gali;
+                if (megno_out) megno_out[at] = res->megno;
                 res->n_samples++;
                 while (B->next[o] < ns_max && sample_target(B, B->next[o]) <= (t - B->t0) * (1 + 1e-12))
                     B->next[o]++;
@@ -1178,7 +1195,8 @@ int fpl_chaos_batch_save(const fpl_chaos_batch *B, double *buf)
         const double a[N_LANE_ACC] = {B->logsum[o], B->next[o], B->pending[o], r->n_samples,
             r->t_final, r->mle, r->sali, r->gali, r->chaotic, r->t_chaotic, r->blew_up,
             r->t_blowup, r->blowup_reason, r->event_index, (double)r->steps, r->done,
-            B->slot_of_orbit[o] >= 0};
+            B->slot_of_orbit[o] >= 0, B->megno_acc[3 * o], B->megno_acc[3 * o + 1],
+            B->megno_acc[3 * o + 2], r->megno};
         memcpy(p, a, sizeof a);
         p += N_LANE_ACC;
         fpl_chaos_batch_get_state(B, o, p);
@@ -1215,6 +1233,8 @@ int fpl_chaos_batch_restore(fpl_chaos_batch *B, const double *buf, long len)
         r->chaotic = p[8] != 0; r->t_chaotic = p[9]; r->blew_up = p[10] != 0; r->t_blowup = p[11];
         r->blowup_reason = (int)p[12]; r->event_index = (int)p[13]; r->steps = (long)p[14];
         r->done = p[15] != 0;
+        memcpy(B->megno_acc + 3 * (size_t)o, p + 17, sizeof(double) * 3);
+        r->megno = p[20];
         B->msg[o][0] = '\0';
         if (r->blew_up && r->blowup_reason == FPL_BATCH_BLOWUP_EVENT && r->event_index >= 0 &&
             r->event_index < B->ev.n)
@@ -1263,7 +1283,9 @@ int fpl_chaos_batch_get_orbit(const fpl_chaos_batch *B, int orbit, long *steps, 
     const double a[FPL_CHAOS_N_ACCUMULATORS] = {
         m, B->logsum[orbit], B->next[orbit], r->n_samples, chaotic, chaotic ? r->t_chaotic : NAN,
         r->mle, r->sali, r->gali, r->t_final, r->done != 0, r->blew_up != 0, r->t_blowup,
-        r->done && !r->blew_up, (pending || chaotic) ? r->t_chaotic : NAN};
+        r->done && !r->blew_up, (pending || chaotic) ? r->t_chaotic : NAN,
+        B->megno_acc[3 * (size_t)orbit], B->megno_acc[3 * (size_t)orbit + 1],
+        B->megno_acc[3 * (size_t)orbit + 2], r->megno};
     memcpy(acc, a, sizeof a);
     *steps = running ? B->n_steps : r->steps;
     *t = running ? fpl_chaos_batch_time(B) : r->t_final;
@@ -1316,7 +1338,7 @@ int fpl_chaos_batch_set_orbits(fpl_chaos_batch *B, const long *steps, const doub
         const double l[N_LANE_ACC] = {a[1], a[2], pending, a[3], a[9], a[6], a[7], a[8], chaotic,
             chaotic ? a[5] : pending ? a[14] : NAN, a[11] != 0, a[12],
             FPL_BATCH_BLOWUP_NONE, -1, (double)steps[o],
-            done, !done};
+            done, !done, a[15], a[16], a[17], a[18]};
         memcpy(p, l, sizeof l);
         memcpy(p + N_LANE_ACC, y + (size_t)o * lane, sizeof(double) * (size_t)lane);
     }

@@ -395,7 +395,7 @@ int fpl_checkpoint_load(const char *path, fpl_integrator *h, const fpl_run_info 
     fpl_h5_quiet q;
     fpl_h5_quiet_begin(&q);
     hid_t f = -1;
-    double *y = NULL, *carry = NULL, ex[FPL_CHECKPOINT_MAX_EXTRA];
+    double *y = NULL, *carry = NULL, *ex = NULL;
     int st = open_checkpoint(path, &f);
     if (st) goto out;
     if ((st = fpl_h5_check_description(f, path, SCHEMA, h->lat, h->method->name))) goto out;
@@ -404,7 +404,7 @@ int fpl_checkpoint_load(const char *path, fpl_integrator *h, const fpl_run_info 
     double t;
     unsigned long long sum;
     size_t len = (size_t)h->dim, nex = FPL_CHECKPOINT_MAX_EXTRA;
-    if (!(y = malloc(sizeof(double) * len))) {
+    if (!(y = malloc(sizeof(double) * len)) || !(ex = malloc(sizeof(double) * nex))) {
         st = fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (checkpoint state)");
         goto out;
     }
@@ -455,6 +455,7 @@ int fpl_checkpoint_load(const char *path, fpl_integrator *h, const fpl_run_info 
     if (n_extra) *n_extra = (int)nex;
 out:
     free(y);
+    free(ex);
     free(carry);
     if (f >= 0) H5Fclose(f);
     H5Eclear2(H5E_DEFAULT);

@@ -355,6 +355,16 @@ int fpl_integrator_transform_deviations(fpl_integrator *h, const double *m)
     return st < 0 ? fail(h, st) : st;
 }
 
+int fpl_integrator_set_deviations(fpl_integrator *h, const double *w)
+{
+    const int k = h->n_dev;
+    if (k == 0) return FPL_OK;
+    const long len = h->dim / (k + 1);
+    memcpy(h->y + len, w, sizeof(double) * (size_t)(len * k));
+    int st = h->method->backend->reset ? h->method->backend->reset(h) : FPL_OK;
+    return st < 0 ? fail(h, st) : st;
+}
+
 static int check_samples(fpl_integrator *h, const double *ts, int n)
 {
     if (n < 0) return fpl_error(NULL, FPL_ERR_ARG, "n_samples must be >= 0 (got %d)", n);

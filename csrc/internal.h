@@ -295,4 +295,23 @@ int fpl_is_finite_array(const double *a, long len, long *first_bad);
  * fpl_lattice_barrier: INFINITY if there is none (barrier.c). */
 double fpl_barrier_stretch(const fpl_lattice *lattice);
 
+/* One renormalisation of MEGNO (Cincotta & Simo 2000) from the log-growth ell of the first
+ * deviation vector: ell went from ell_prev to ell over an interval h ending s after t0.
+ * acc = {int ell ds, int Y ds, Y at the previous renormalisation} (trapezoid rule):
+ *   Y = 2 ell - (2/s) int ell ds,  returns <Y> = (1/s) int Y ds.
+ * Shared by fpl_chaos and the batched lanes, which thereby agree bit for bit. */
+static inline double fpl_megno_step(double *acc, double h, double s, double ell_prev, double ell)
+{
+    acc[0] += 0.5 * h * (ell_prev + ell);
+    const double y = 2.0 * ell - 2.0 * acc[0] / s;
+    acc[1] += 0.5 * h * (acc[2] + y);
+    acc[2] = y;
+    return acc[1] / s;
+}
+
+/* Replace the integrator's n_dev deviation vectors by w (n_dev x 2N, row-major; the caller
+ * checked it finite), with the back end's reset as fpl_integrator_transform_deviations: how the
+ * spectrum puts its orthonormal Q in place without the round-off of a transformation matrix. */
+int fpl_integrator_set_deviations(fpl_integrator *h, const double *w);
+
 #endif

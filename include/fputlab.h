@@ -11,6 +11,7 @@
 #include "fputlab/integrator.h"
 #include "fputlab/chaos.h"
 #include "fputlab/chaos_batch.h"
+#include "fputlab/spectrum.h"
 #include "fputlab/reduction.h"
 #include "fputlab/io.h"
 #endif

@@ -61,6 +61,9 @@ typedef struct fpl_chaos_result {
     double t_blowup;          /* when: the event time, or the renormalisation time at which the
                                  stretch or non-finite state was found (NaN if none) */
     int completed;            /* t_end reached, or stopped chaotic (stop_when_chaotic) */
+    double megno;             /* MEGNO <Y>(t_final) of the first vector (NaN before the first
+                                 renormalisation): -> 2 on a quasi-periodic orbit, 0 on a stable
+                                 periodic one, ~ lambda t / 2 on a chaotic one */
 } fpl_chaos_result;
 
 /* renorm_interval 1.0, n_samples 200, t_first_sample 0 (= renorm_interval), n_dev 2,
@@ -87,7 +90,7 @@ FPL_API int fpl_chaos_run(const fpl_lattice *lattice, const char *method,
  * A checkpoint holds the integrator (fpl_chaos_integrator, see fputlab/io.h) and the
  * FPL_CHAOS_N_ACCUMULATORS numbers of fpl_chaos_save; restoring both continues bit for bit. */
 typedef struct fpl_chaos fpl_chaos;
-enum { FPL_CHAOS_N_ACCUMULATORS = 15 };
+enum { FPL_CHAOS_N_ACCUMULATORS = 19 };
 FPL_API int fpl_chaos_create(const fpl_lattice *lattice, const char *method,
                              const fpl_integrator_options *integrator_options, double t0,
                              const double *y0, const double *w0, const fpl_chaos_options *opt,
@@ -95,6 +98,14 @@ FPL_API int fpl_chaos_create(const fpl_lattice *lattice, const char *method,
 FPL_API void fpl_chaos_free(fpl_chaos **chaos);
 FPL_API int fpl_chaos_advance(fpl_chaos *chaos, double t_until, double *t_out, double *mle_out,
                               double *sali_out, double *gali_out);
+/* fpl_chaos_advance that also writes MEGNO <Y>(t) (Cincotta & Simo 2000) at the samples
+ * (megno_out of length opt->n_samples, or NULL). MEGNO is computed from the growth of the first
+ * deviation vector between renormalisations, ell(t) = ln ||w_1(t)|| (trapezoid rule on the
+ * renormalisation grid, which converges as renorm_interval -> 0):
+ *   Y(t) = 2 ell(t) - (2/t) int_0^t ell ds,   <Y>(t) = (1/t) int_0^t Y ds. */
+FPL_API int fpl_chaos_advance_megno(fpl_chaos *chaos, double t_until, double *t_out,
+                                    double *mle_out, double *sali_out, double *gali_out,
+                                    double *megno_out);
 /* 1 once t_end is reached, the orbit was found chaotic with stop_when_chaotic, or it blew up. */
 FPL_API int fpl_chaos_done(const fpl_chaos *chaos);
 FPL_API int fpl_chaos_get_result(const fpl_chaos *chaos, fpl_chaos_result *result);

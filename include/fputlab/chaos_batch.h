@@ -87,6 +87,7 @@ typedef struct fpl_chaos_batch_result {
     int event_index;          /* criterion that fired (index into integrator_options->events), or -1 */
     long steps;               /* integrator steps taken by this orbit */
     int done;                 /* the lane has finished (t_end, blow-up, or stopped chaotic) */
+    double megno;             /* MEGNO <Y>(t_final), as fpl_chaos_result.megno (bit for bit) */
 } fpl_chaos_batch_result;
 
 typedef struct fpl_chaos_batch fpl_chaos_batch;
@@ -117,6 +118,11 @@ FPL_API void fpl_chaos_batch_free(fpl_chaos_batch **batch);
  * errors: the status is < 0 only for bad arguments or memory. */
 FPL_API int fpl_chaos_batch_advance(fpl_chaos_batch *batch, double t_until, double *t_out,
                                     double *mle_out, double *sali_out, double *gali_out);
+/* The same, also writing MEGNO <Y>(t) (as fpl_chaos_advance_megno, bit for bit; megno_out
+ * n_orbits x n_samples, or NULL). */
+FPL_API int fpl_chaos_batch_advance_megno(fpl_chaos_batch *batch, double t_until, double *t_out,
+                                          double *mle_out, double *sali_out, double *gali_out,
+                                          double *megno_out);
 /* 1 once every lane has finished. */
 FPL_API int fpl_chaos_batch_done(const fpl_chaos_batch *batch);
 /* Number of orbits, and of lanes still running. */

@@ -90,7 +90,9 @@ FPL_API int fpl_results_flush(fpl_results *results);
 FPL_API int fpl_results_close(fpl_results **results);
 
 /* ---- checkpoints ------------------------------------------------------------------------ */
-enum { FPL_CHECKPOINT_MAX_EXTRA = 64 };
+/* run-specific accumulators a checkpoint can hold (a Lyapunov spectrum of k exponents needs
+ * k + 5) */
+enum { FPL_CHECKPOINT_MAX_EXTRA = 8192 };
 
 /* Write the integrator's state, the run description, n_extra run-specific numbers
  * (accumulators) and, if results is not NULL, where that results file stands (its rows on disk

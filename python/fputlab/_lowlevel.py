@@ -29,7 +29,9 @@ __all__ = [
     "model_name", "method_names", "method_info", "chaos_batch_method_names", "orbit_class_name",
     "disorder_draw", "disorder_standard", "modes_omega",
     "integrator_options", "chaos_options", "chaos_result", "chaos_batch_options", "event_set",
+    "spectrum_options", "spectrum_qr", "SPECTRUM_DEFAULTS",
     "LatticeHandle", "IntegratorHandle", "ChaosHandle", "ChaosBatchHandle", "GalerkinHandle",
+    "SpectrumHandle",
     "RunInfo", "ResultsHandle", "results_verify", "checkpoint_write", "checkpoint_load",
     "checkpoint_peek", "chaos_classify", "chaos_sali", "chaos_gali", "splitting_lookup",
     "reduction_coefficients", "reduction_quadratic_forms", "reduction_moments",
@@ -80,7 +82,12 @@ lib.fpl_chaos_options_init(_co)
 CHAOS_DEFAULTS = {name: getattr(_co, name) for name in (
     "renorm_interval", "n_samples", "t_first_sample", "n_dev", "sali_threshold",
     "stop_when_chaotic", "seed", "blowup_stretch")}
-del _io, _co
+_so = ffi.new("fpl_spectrum_options *")
+lib.fpl_spectrum_options_init(_so)
+#: defaults of fpl_spectrum_options_init (t_end NaN: no default; n_exponents 0: all 2N)
+SPECTRUM_DEFAULTS = {name: getattr(_so, name) for name in (
+    "renorm_interval", "n_exponents", "n_samples", "t_first_sample", "seed")}
+del _io, _co, _so
 
 #: length of the accumulator vector of fpl_chaos_save / fpl_chaos_restore
 CHAOS_N_ACCUMULATORS = int(lib.FPL_CHAOS_N_ACCUMULATORS)
@@ -467,11 +474,11 @@ class ChaosHandle(_Handle):
                                       self.n_dev, self)
 
     def advance(self, t: float, t_out: np.ndarray, mle: np.ndarray, sali: np.ndarray,
-                gali: np.ndarray) -> int:
-        """fpl_chaos_advance to t, samples into the arrays; returns the status (> 0: the orbit
-        blew up, `last_error()` says when and why)."""
-        return check(lib.fpl_chaos_advance(self.ptr, t, ptr(t_out), ptr(mle), ptr(sali),
-                                           ptr(gali)))
+                gali: np.ndarray, megno: np.ndarray | None = None) -> int:
+        """fpl_chaos_advance_megno to t, samples into the arrays (`megno` None: not written);
+        returns the status (> 0: the orbit blew up, `last_error()` says when and why)."""
+        return check(lib.fpl_chaos_advance_megno(self.ptr, t, ptr(t_out), ptr(mle), ptr(sali),
+                                                 ptr(gali), _nul(megno)))
 
     def get_result(self, res=None):
         """fpl_chaos_get_result into `res` (a new fpl_chaos_result if None); returns it."""
@@ -488,7 +495,89 @@ class ChaosHandle(_Handle):
         return acc
 
     def restore(self, acc: np.ndarray) -> None:
+        if acc.shape != (CHAOS_N_ACCUMULATORS,):    # C reads exactly that many
+            raise ValueError(f"chaos accumulators: {acc.size} values, fpl_chaos_restore needs "
+                             f"{CHAOS_N_ACCUMULATORS} (saved by another fputlab version?)")
         check(lib.fpl_chaos_restore(self.ptr, ptr(acc)))
+
+
+def spectrum_options(t_end: float, **values):
+    """An fpl_spectrum_options (fpl_spectrum_options_init, then t_end and the given fields)."""
+    so = ffi.new("fpl_spectrum_options *")
+    lib.fpl_spectrum_options_init(so)
+    so.t_end = t_end
+    for name, value in values.items():
+        setattr(so, name, value)
+    return so
+
+
+def spectrum_qr(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """fpl_spectrum_qr of the k rows of w (k, len): (q (k, len), r (k, k))."""
+    k, n = w.shape
+    q, r = np.empty((k, n)), np.empty((k, k))
+    check(lib.fpl_spectrum_qr(ptr(w), k, n, ptr(q), ptr(r)))
+    return q, r
+
+
+class SpectrumHandle(_Handle):
+    """fpl_spectrum: create(lattice, method, integrator options, t0, y0 (2N,), w0 (k, 2N) or
+    None, spectrum options). The status of a create that fails is raised."""
+    _free, _ctype = lib.fpl_spectrum_free, "fpl_spectrum"
+
+    def __init__(self, lattice: LatticeHandle, method: str, options, t0: float, y0: np.ndarray,
+                 w0: np.ndarray | None, spectrum_opts, events=None):
+        out = ffi.new("fpl_spectrum **")
+        _with_events(options, events, lambda: check(lib.fpl_spectrum_create(
+            lattice.ptr, method.encode(), options, t0, ptr(y0), _nul(w0), spectrum_opts, out)))
+        self._own(out[0])
+        self.lattice = lattice
+        self.k = int(spectrum_opts.n_exponents) or 2 * int(y0.size // 2)
+
+    def integrator(self) -> IntegratorHandle:
+        """fpl_spectrum_integrator: the integrator inside (owned by this handle)."""
+        return IntegratorHandle._view(lib.fpl_spectrum_integrator(self.ptr), self.lattice,
+                                      self.k, self)
+
+    def advance(self, t: float, t_out: np.ndarray | None, history: np.ndarray | None) -> int:
+        """fpl_spectrum_advance to t; samples into t_out (n_samples,) and history
+        (n_samples, k); returns the status (FPL_EVENT: a stopping criterion fired)."""
+        return check(lib.fpl_spectrum_advance(self.ptr, t, _nul(t_out), _nul(history)))
+
+    def get_result(self, res=None):
+        """fpl_spectrum_get_result into `res` (a new fpl_spectrum_result if None)."""
+        res = ffi.new("fpl_spectrum_result *") if res is None else res
+        check(lib.fpl_spectrum_get_result(self.ptr, res))
+        return res
+
+    def done(self) -> bool:
+        return bool(lib.fpl_spectrum_done(self.ptr))
+
+    def exponents(self) -> np.ndarray:
+        out = np.empty(self.k)
+        check(lib.fpl_spectrum_exponents(self.ptr, ptr(out)))
+        return out
+
+    def state(self) -> np.ndarray:
+        """fpl_spectrum_state: (1 + k, 2N), the orbit and Q at the last renormalisation."""
+        out = np.empty((1 + self.k, self.lattice.N * 2))
+        check(lib.fpl_spectrum_state(self.ptr, ptr(out)))
+        return out
+
+    def last_r(self) -> np.ndarray:
+        out = np.empty((self.k, self.k))
+        check(lib.fpl_spectrum_last_r(self.ptr, ptr(out)))
+        return out
+
+    def save(self) -> np.ndarray:
+        acc = np.empty(lib.fpl_spectrum_n_accumulators(self.ptr))
+        check(lib.fpl_spectrum_save(self.ptr, ptr(acc)))
+        return acc
+
+    def restore(self, acc: np.ndarray) -> None:
+        n = lib.fpl_spectrum_n_accumulators(self.ptr)
+        if acc.shape != (n,):                      # C reads exactly that many
+            raise ValueError(f"spectrum accumulators: {acc.size} values, this run needs {n}")
+        check(lib.fpl_spectrum_restore(self.ptr, ptr(acc)))
 
 
 class ChaosBatchHandle(_Handle):
@@ -507,9 +596,10 @@ class ChaosBatchHandle(_Handle):
         self._own(out[0])
 
     def advance(self, t: float, t_out: np.ndarray, mle: np.ndarray, sali: np.ndarray,
-                gali: np.ndarray) -> int:
-        return check(lib.fpl_chaos_batch_advance(self.ptr, t, ptr(t_out), ptr(mle), ptr(sali),
-                                                 ptr(gali)))
+                gali: np.ndarray, megno: np.ndarray | None = None) -> int:
+        """fpl_chaos_batch_advance_megno (`megno` None: not written)."""
+        return check(lib.fpl_chaos_batch_advance_megno(self.ptr, t, ptr(t_out), ptr(mle),
+                                                       ptr(sali), ptr(gali), _nul(megno)))
 
     def time(self) -> float:
         return lib.fpl_chaos_batch_time(self.ptr)

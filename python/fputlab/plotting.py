@@ -5,18 +5,22 @@ Axes when None) and returns that Axes, so plots compose:
 ``ax = plot_mle(results); plot_mle(other, ax=ax, colors="k")``. The paper's figures
 (`fputlab.figures`, `fputlab.figures_reduction`) are made with these functions.
 
-========================  ============================================================================
-function                  plots
-========================  ============================================================================
-plot_mode_energies        E_k(t) of a run (Figs. 1b, 2b/d, 3)
-plot_envelope             top view of the oscillation envelope max|x_j| (Figs. 1a, 2a/c)
-plot_mle                  finite-time mLE lambda(t) with the 1/t guide of regular orbits (Figs. 11-13)
-plot_sali                 SALI(t) with the chaos threshold (Figs. 11-13)
-plot_two_mode             Q_1, Q_2 of the two-mode system with the envelope equations (Fig. 6)
-plot_blowup_sweep         probability of blow-up versus tau, or the blow-up times
-plot_blowup_sweep_figure  both panels of a blow-up sweep in one figure, optionally a PNG
-plot_bifurcation          regions of the (A~, B~) plane by their equilibria, and the curves (Fig. 7)
-========================  ============================================================================
+=========================  =========================================================================
+function                   plots
+=========================  =========================================================================
+plot_mode_energies         E_k(t) of a run (Figs. 1b, 2b/d, 3)
+plot_envelope              top view of the oscillation envelope max|x_j| (Figs. 1a, 2a/c)
+plot_mle                   finite-time mLE lambda(t) with the 1/t guide of regular orbits (Figs. 11-13)
+plot_sali                  SALI(t) with the chaos threshold (Figs. 11-13)
+plot_two_mode              Q_1, Q_2 of the two-mode system with the envelope equations (Fig. 6)
+plot_blowup_sweep          probability of blow-up versus tau, or the blow-up times
+plot_blowup_sweep_figure   both panels of a blow-up sweep in one figure, optionally a PNG
+plot_bifurcation           regions of the (A~, B~) plane by their equilibria, and the curves (Fig. 7)
+plot_spectrum              Lyapunov spectrum lambda_i against i/(2N) (the thermodynamic-limit shape)
+plot_spectrum_convergence  lambda_i(t) of a spectrum run: convergence of the exponents in time
+plot_megno                 MEGNO <Y>(t) with the quasi-periodic limit 2
+plot_clv_localisation      localisation of covariant Lyapunov vectors: 1/IPR against i/(2N)
+=========================  =========================================================================
 """
 from __future__ import annotations
 
@@ -467,4 +471,144 @@ def plot_bifurcation(ax=None, *, N: int = 64, r1sq: float | None = None,
                     Line2D([], [], color="r", label=r"$1-4\tilde A\tilde B r_1^2=0$"),
                     Line2D([], [], color="k", ls="--", label=r"$\tilde A+\tilde B=0$")]
         ax.legend(handles=handles, fontsize=7.5, loc=legend, framealpha=0.9)
+    return ax
+
+
+def plot_spectrum(results, ax=None, *, labels=None, colors=None, marker: str = ".",
+                  legend: str | None = "best"):
+    """Lyapunov spectra λ_i against i/(2N): spectra of different N collapse onto one curve in
+    the thermodynamic limit (Livi, Politi & Ruffo 1986).
+
+    Parameters
+    ----------
+    results : SpectrumResult or sequence of SpectrumResult
+        Anything with ``exponents`` and ``params["N"]`` (or a dict with ``exponents``, ``N``).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    labels : str or sequence of str, optional
+        Legend labels (default: "N = ..." for each).
+    colors : colour or sequence of colours, optional
+        One colour for all results, or one per result.
+    marker : str, optional
+        Marker of the points.
+    legend : str or None, optional
+        Legend location, None for no legend.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    items = [results] if hasattr(results, "exponents") or isinstance(results, dict) \
+        else list(results)
+    if not items:
+        raise ValueError("results: nothing to plot (empty sequence)")
+    ax = _axes(ax)
+    labels, colors = _labels_colors(labels, colors, len(items))
+    for res, label, color in zip(items, labels, colors):
+        lam = _get(res, "exponents")
+        N = int(res["N"] if isinstance(res, dict) else res.params.get("N", lam.size // 2))
+        x = np.arange(1, lam.size + 1) / (2 * N)
+        ax.plot(x, lam, marker=marker, lw=0.8, color=color,
+                label=label if label is not None else f"$N = {N}$")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel(r"$i / (2N)$")
+    ax.set_ylabel(r"$\lambda_i$")
+    if legend is not None:
+        ax.legend(loc=legend, frameon=False, fontsize=8)
+    return ax
+
+
+def plot_spectrum_convergence(result, ax=None, *, every: int = 1, cmap: str = "viridis"):
+    """The exponents λ_i(t) of one spectrum run against t (log time axis): how far they have
+    converged. Positive exponents are drawn solid, the others dashed.
+
+    Parameters
+    ----------
+    result : SpectrumResult
+        Anything with ``t`` and ``history`` (k, len(t)).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure when None.
+    every : int, optional
+        Draw every `every`-th exponent (for large k).
+    cmap : str, optional
+        Colour map over the exponent index.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    import matplotlib
+    ax = _axes(ax)
+    t, hist = _get(result, "t"), _get(result, "history")
+    k = hist.shape[0]
+    colors = matplotlib.colormaps[cmap](np.linspace(0, 1, max(k, 2)))
+    for i in range(0, k, max(1, int(every))):
+        final = hist[i, -1] if hist.shape[1] else 0.0
+        ax.semilogx(t, hist[i], lw=0.8, color=colors[i], ls="-" if final > 0 else "--")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("$t$")
+    ax.set_ylabel(r"$\lambda_i(t)$")
+    return ax
+
+
+def plot_megno(results, ax=None, *, labels=None, colors=None, legend: str | None = "best"):
+    """MEGNO <Y>(t) (Cincotta & Simó 2000): it tends to 2 on quasi-periodic orbits (dashed
+    guide) and grows like λt/2 on chaotic ones.
+
+    Parameters
+    ----------
+    results : ChaosResult or sequence of ChaosResult
+        Anything with ``t`` and ``megno``.
+    ax, labels, colors, legend : optional
+        As `plot_mle`.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    items = _as_list(results)
+    ax = _axes(ax)
+    labels, colors = _labels_colors(labels, colors, len(items))
+    for res, label, color in zip(items, labels, colors):
+        ax.semilogx(_get(res, "t"), _get(res, "megno"), lw=0.8, color=color, label=label)
+    ax.axhline(2.0, color="k", ls="--", lw=1.0, label="2 (quasi-periodic)")
+    ax.set_xlabel("$t$")
+    ax.set_ylabel(r"$\langle Y \rangle(t)$")
+    if legend is not None:
+        ax.legend(loc=legend, frameon=False, fontsize=8)
+    return ax
+
+
+def plot_clv_localisation(results, ax=None, *, labels=None, colors=None,
+                          legend: str | None = "best"):
+    """Localisation of covariant Lyapunov vectors: the participation number 1/IPR (the number
+    of sites a vector occupies), averaged over the window, against i/(2N). Extended vectors
+    reach ~2N/3 sites; localised ones (Anderson localisation of the disordered chains) a few.
+
+    Parameters
+    ----------
+    results : CLVResult or sequence of CLVResult
+        Anything with ``ipr`` (times, k) and ``params["N"]``.
+    ax, labels, colors, legend : optional
+        As `plot_spectrum`.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    items = [results] if hasattr(results, "ipr") else list(results)
+    if not items:
+        raise ValueError("results: nothing to plot (empty sequence)")
+    ax = _axes(ax)
+    labels, colors = _labels_colors(labels, colors, len(items))
+    for res, label, color in zip(items, labels, colors):
+        ipr = np.asarray(res.ipr, dtype=float)
+        N = int(res.params.get("N", ipr.shape[1] // 2))
+        x = np.arange(1, ipr.shape[1] + 1) / (2 * N)
+        ax.plot(x, (1.0 / ipr).mean(axis=0), marker=".", lw=0.8, color=color,
+                label=label if label is not None else f"$N = {N}$")
+    ax.set_xlabel(r"$i / (2N)$")
+    ax.set_ylabel(r"participation $1/\mathrm{IPR}$ (sites)")
+    if legend is not None:
+        ax.legend(loc=legend, frameon=False, fontsize=8)
     return ax

@@ -79,6 +79,9 @@ static void compare_with_single(fpl_lattice **lats, int R, const char *method, d
         d = fmax(d, fabs(bres.mle - sres.mle) / fabs(sres.mle));
         worst = fmax(worst, d);
         CHECK(d <= tol, "%s lane %d: lambda/SALI/GALI differ by %.3g (relative)", what, r, d);
+        /* MEGNO: the lanes run fpl_chaos's update on the same log-norms */
+        CHECK(fabs(bres.megno - sres.megno) <= tol * fmax(1.0, fabs(sres.megno)),
+              "%s lane %d: MEGNO %.17g vs %.17g", what, r, bres.megno, sres.megno);
         CHECK(bres.t_final == sres.t_final && bres.steps == sres.steps,
               "%s lane %d: t_final %g vs %g, steps %ld vs %ld", what, r, bres.t_final,
               sres.t_final, bres.steps, sres.steps);
@@ -403,6 +406,7 @@ static void test_checkpoint(void)
         CHECK_OK(fpl_chaos_batch_get_result(b, r, &rb));
         chaotic += ra.chaotic;
         CHECK(ra.mle == rb.mle && ra.sali == rb.sali && ra.t_final == rb.t_final &&
+              ra.megno == rb.megno && ra.megno == ra.megno &&
               ra.chaotic == rb.chaotic && ra.n_samples == rb.n_samples && ra.steps == rb.steps &&
               memcmp(m1 + r * NS, m2 + r * NS, sizeof(double) * (size_t)ra.n_samples) == 0,
               "lane %d: restored run differs (mle %.17g vs %.17g)", r, ra.mle, rb.mle);
@@ -542,6 +546,7 @@ static void test_orbit_format(void)
         CHECK_OK(fpl_chaos_batch_get_result(a, r, &ra));
         CHECK_OK(fpl_chaos_batch_get_result(b, r, &rb));
         CHECK(ra.mle == rb.mle && ra.sali == rb.sali && ra.t_final == rb.t_final &&
+              ra.megno == rb.megno && ra.megno == ra.megno &&
               ra.chaotic == rb.chaotic && ra.n_samples == rb.n_samples && ra.steps == rb.steps &&
               memcmp(m1 + r * NS, m2 + r * NS, sizeof(double) * (size_t)ra.n_samples) == 0,
               "orbit %d: continued batch differs (mle %.17g vs %.17g)", r, ra.mle, rb.mle);

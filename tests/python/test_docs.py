@@ -29,7 +29,10 @@ MAIN = [fputlab.Lattice, fputlab.Lattice.integrate, fputlab.integrate, fputlab.I
         ensemble.run_sweep, ensemble.load_sweep, ensemble.run_calls, ensemble.run_task,
         ensemble.run_chaos_group, ensemble.check_ensemble, ensemble.process_pool,
         plotting.plot_blowup_sweep_figure, io.simulate_to_file, io.chaos_to_file, io.load,
-        io.write_checkpoint, io.load_checkpoint, io.checkpoint_time, io.ResultsFile]
+        io.write_checkpoint, io.load_checkpoint, io.checkpoint_time, io.ResultsFile,
+        chaos.lyapunov_spectrum, chaos.covariant_lyapunov_vectors, chaos.lyapunov_spectra,
+        plotting.plot_spectrum,
+        plotting.plot_spectrum_convergence, plotting.plot_megno, plotting.plot_clv_localisation]
 # every public function of the reduction modules
 MAIN += [obj for mod in (reduction.coefficients, reduction.statistics, reduction.modal,
                          reduction.envelope, reduction.reduced)

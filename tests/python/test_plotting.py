@@ -124,3 +124,45 @@ def test_plot_bifurcation_regions_match_classify():
     A, B = np.meshgrid(np.linspace(-1, 1, 51), np.linspace(-1, 1, 51))
     np.testing.assert_array_equal(codes, reduction.classify(A, B, reduction.r1_squared(64)))
     assert len(ax.get_legend().get_texts()) == 8
+
+
+def fake_spectrum(N, seed=0):
+    """A SpectrumResult built by hand: a linear spectrum lambda_i = 1 - 2 (i - 1/2)/(2N)."""
+    from fputlab.chaos import SpectrumResult
+    lam = 1 - 2 * (np.arange(2 * N) + 0.5) / (2 * N)
+    t = np.logspace(0, 3, 12)
+    hist = lam[:, None] * (1 + 1 / t)[None, :]
+    return SpectrumResult(exponents=lam, t=t, history=hist, t_final=1e3, steps=0,
+                          method="none", params={"N": N})
+
+
+def test_plot_spectrum_collapses_sizes_on_i_over_2N():
+    ax = plotting.plot_spectrum([fake_spectrum(4), fake_spectrum(8)])
+    lines = [ln for ln in ax.get_lines() if len(ln.get_xdata()) > 2]
+    assert len(lines) == 2
+    np.testing.assert_allclose(lines[0].get_xdata(), np.arange(1, 9) / 8)
+    np.testing.assert_allclose(lines[1].get_ydata(), fake_spectrum(8).exponents)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["$N = 4$", "$N = 8$"]
+
+
+def test_plot_spectrum_convergence_draws_every_exponent():
+    res = fake_spectrum(3)
+    ax = plotting.plot_spectrum_convergence(res)
+    curves = [ln for ln in ax.get_lines() if len(ln.get_xdata()) == res.t.size]
+    assert len(curves) == 6
+    np.testing.assert_allclose(curves[0].get_ydata(), res.history[0])
+    assert curves[0].get_linestyle() == "-" and curves[-1].get_linestyle() == "--"
+    assert len(plotting.plot_spectrum_convergence(res, every=2).get_lines()) == 3 + 1
+
+
+def test_plot_megno_and_clv_localisation():
+    res = fake_chaos(1.0)
+    res.megno = 2 - 1 / res.t
+    ax = plotting.plot_megno(res, labels="orbit")
+    np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), res.megno)
+
+    class FakeCLV:
+        ipr = np.array([[0.25, 0.5], [0.25, 1.0]])
+        params = {"N": 1}
+    ax = plotting.plot_clv_localisation(FakeCLV())
+    np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), [4.0, 1.5])

@@ -132,19 +132,19 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
     t0 = _real(t0, "t0")
     batch = ll.ChaosBatchHandle([lat._h for lat in lattices], method, io, t0, y, w, bo, events)
     S = max(bo.chaos.n_samples, 1)
-    t, mle, sali, gali = (np.full((R, S), np.nan) for _ in range(4))
+    t, mle, sali, gali, megno = (np.full((R, S), np.nan) for _ in range(5))
     span = bo.chaos.t_end - t0
     if progress:
         from tqdm.auto import tqdm
         with tqdm(total=span, desc=f"chaos batch R={R} N={N}", unit="t", disable=None,
                   bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]") as bar:
             for k in range(1, 101):
-                batch.advance(t0 + span * k / 100, t, mle, sali, gali)
+                batch.advance(t0 + span * k / 100, t, mle, sali, gali, megno)
                 bar.update(batch.time() - t0 - bar.n)
                 if batch.done():
                     break
     else:
-        batch.advance(bo.chaos.t_end, t, mle, sali, gali)
+        batch.advance(bo.chaos.t_end, t, mle, sali, gali, megno)
     results = []
     res = None
     for r, lat in enumerate(lattices):
@@ -165,7 +165,8 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
                   "params": params}
         # fields the single-orbit result may gain (blow-up bookkeeping) are filled if present
         names = {f.name for f in dataclasses.fields(ChaosResult)}
-        for name, value in (("blew_up", blew_up), ("t_blowup", res.t_blowup)):
+        for name, value in (("blew_up", blew_up), ("t_blowup", res.t_blowup),
+                            ("megno", megno[r, :k].copy())):
             if name in names:
                 fields[name] = value
         results.append(ChaosResult(**{k_: v for k_, v in fields.items() if k_ in names}))

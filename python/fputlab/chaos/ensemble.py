@@ -100,11 +100,12 @@ def _initial(settings: dict, lat: Lattice) -> np.ndarray:
     return lat.mode_state()
 
 
-def _report(settings, t_end, res, t, mle, sali, gali, message, state, cpu, failed=False) -> dict:
+def _report(settings, t_end, res, t, mle, sali, gali, megno, message, state, cpu,
+            failed=False) -> dict:
     """One orbit's report: its values (class at the end, final indicators, the samples) and, if
     it can go on, its state in the single-orbit checkpoint format."""
     k = int(res.n_samples)
-    t, mle, sali, gali = (np.array(a[:k]) for a in (t, mle, sali, gali))
+    t, mle, sali, gali, megno = (np.array(a[:k]) for a in (t, mle, sali, gali, megno))
     cls = ll.chaos_classify(bool(res.chaotic), float(res.t_chaotic), bool(res.blew_up),
                             float(res.t_blowup), float(res.t_final), t, mle, math.nan)
     done = bool(res.chaotic and settings["stop_when_chaotic"]) or bool(res.blew_up) or failed
@@ -112,16 +113,18 @@ def _report(settings, t_end, res, t, mle, sali, gali, message, state, cpu, faile
               "chaotic": bool(res.chaotic), "t_chaotic": float(res.t_chaotic),
               "blew_up": bool(res.blew_up), "t_blowup": float(res.t_blowup),
               "t_final": float(res.t_final), "steps": int(res.steps), "message": message,
-              "t_sample": t, "mle_t": mle, "sali_t": sali, "gali_t": gali}
+              "megno": float(res.megno),
+              "t_sample": t, "mle_t": mle, "sali_t": sali, "gali_t": gali, "megno_t": megno}
     return {"t": t_end, "done": done, "message": message, "cpu": cpu, "values": values,
             "state": None if done else state}
 
 
 def _samples(prev, S: int, rows: int = 1):
-    """Sample arrays (t, mle, sali, gali) of length S, holding a previous report's samples."""
-    out = [np.full(S, np.nan) for _ in range(4)]
+    """Sample arrays (t, mle, sali, gali, megno) of length S, holding a previous report's
+    samples."""
+    out = [np.full(S, np.nan) for _ in range(5)]
     if prev is not None:
-        for a, name in zip(out, ("t_sample", "mle_t", "sali_t", "gali_t")):
+        for a, name in zip(out, ("t_sample", "mle_t", "sali_t", "gali_t", "megno_t")):
             v = np.asarray(prev["values"][name], float)
             a[:v.size] = v
     return out
@@ -169,7 +172,7 @@ def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
                             ll.chaos_batch_options(T, **co))
     S = co["n_samples"]
     rows = [_samples(p, S) for p in prevs]
-    arrays = [np.ascontiguousarray(np.stack([r[i] for r in rows])) for i in range(4)]
+    arrays = [np.ascontiguousarray(np.stack([r[i] for r in rows])) for i in range(5)]
     if prevs[0] is not None:
         st = [p["state"] for p in prevs]
         b.set_orbits([int(x["steps"]) for x in st], [float(x["t"]) for x in st],
@@ -210,7 +213,7 @@ class ChaosKind(StudyKind):
     so a larger t_end continues it bit for bit. Batchable methods run the orbits of one N in
     the vector lanes."""
     name = "chaos"
-    version = 1
+    version = 2         # 2: MEGNO (and fpl_chaos_save's 19 accumulators)
     dims = ("N", "tau", "seed")
     batch = 4
     variables = {
@@ -218,6 +221,7 @@ class ChaosKind(StudyKind):
                                      "undecided)"),
         "mle": ((), float, "1", "finite-time maximum Lyapunov exponent at the end"),
         "sali": ((), float, "1", "smaller alignment index at the end"),
+        "megno": ((), float, "1", "MEGNO <Y> at the end (-> 2 regular, ~ lambda t/2 chaotic)"),
         "chaotic": ((), bool, "", "SALI fell below its threshold on the finite orbit"),
         "t_chaotic": ((), float, "1", "time SALI fell below its threshold"),
         "blew_up": ((), bool, "", "the orbit blew up"),
@@ -229,6 +233,7 @@ class ChaosKind(StudyKind):
         "mle_t": (("sample",), float, "1", "finite-time maximum Lyapunov exponent"),
         "sali_t": (("sample",), float, "1", "smaller alignment index"),
         "gali_t": (("sample",), float, "1", "generalised alignment index"),
+        "megno_t": (("sample",), float, "1", "MEGNO <Y>(t)"),
     }
     coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
                    "tau": {"long_name": "variability of the disorder", "units": "percent"},
@@ -389,7 +394,8 @@ class ChaoticFraction(StudyResult):
                 params={"N": int(N), "model": settings["model"], "tau": float(o["tau"]),
                         "seed": int(seed), "t_end": ds.attrs["t_end"], "dt": settings["dt"],
                         "renorm_interval": settings["renorm_interval"]},
-                blew_up=bool(o["blew_up"]), t_blowup=float(o["t_blowup"])))
+                blew_up=bool(o["blew_up"]), t_blowup=float(o["t_blowup"]),
+                megno=o["megno_t"].values[:k] if "megno_t" in o else None))
         return out
 
 

@@ -34,7 +34,7 @@ def classify_orbit(t, mle, *, chaotic: bool, t_chaotic: float, blew_up: bool, t_
 
 @dataclass(repr=False)
 class ChaosResult(ResultMixin):
-    """lambda(t), SALI(t), GALI(t) at log-spaced times for one orbit.
+    """lambda(t), SALI(t), GALI(t) and MEGNO <Y>(t) at log-spaced times for one orbit.
 
     The orbit's class (`classify`) is exactly one of 'chaotic', 'regular', 'blow-up',
     'undecided'. A blow-up is decided by a stopping criterion, the bond-stretch check
@@ -54,6 +54,14 @@ class ChaosResult(ResultMixin):
     params: dict = field(default_factory=dict)
     blew_up: bool = False      # the run ended in a blow-up
     t_blowup: float = math.nan
+    megno: np.ndarray | None = None   # MEGNO <Y>(t) at the samples (None: not computed, e.g.
+                                      # the batched lanes of fputlab.chaos_batch)
+
+    @property
+    def megno_final(self) -> float:
+        """MEGNO <Y> at the last sample (NaN if not computed)."""
+        m = self.megno
+        return float(m[-1]) if m is not None and m.size else float("nan")
 
     @property
     def mle_final(self) -> float:

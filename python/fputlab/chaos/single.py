@@ -1,5 +1,5 @@
-"""Chaos indicators of one orbit: maximum Lyapunov exponent lambda(t), SALI(t), GALI_k(t) and the
-classification of orbits (paper Sec. 5, Fig. 11)."""
+"""Chaos indicators of one orbit: maximum Lyapunov exponent lambda(t), SALI(t), GALI_k(t), MEGNO
+<Y>(t) and the classification of orbits (paper Sec. 5, Fig. 11)."""
 from __future__ import annotations
 
 import time
@@ -136,7 +136,10 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     Returns
     -------
     ChaosResult
-        ``t``, ``mle``, ``sali``, ``gali`` at the sample times, and whether and when the orbit
+        ``t``, ``mle``, ``sali``, ``gali`` and ``megno`` (MEGNO <Y>(t), Cincotta & Simó 2000:
+        -> 2 on a quasi-periodic orbit, ~ λt/2 on a chaotic one; from the first deviation
+        vector's growth, trapezoid rule on the renormalisation grid, so a `renorm_interval`
+        well below the orbit's periods) at the sample times, and whether and when the orbit
         was found chaotic. A blow-up ends the run cleanly: ``blew_up``, ``t_blowup`` and
         ``message`` say when and why, and the samples before it are kept. A numerical failure
         (not a blow-up) also returns, with ``completed`` False and the reason in ``message``.
@@ -169,13 +172,13 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
     co = _chaos_options(t_end, renorm_interval, n_samples, t_first_sample, n_dev, sali_threshold,
                         stop_when_chaotic, seed, blowup_stretch)
     S = max(co.n_samples, 1)
-    check_memory(8.0 * (4 * S + 2 * N * (n_dev + 2)), f"{S} chaos samples (N = {N}, n_dev = {n_dev})")
-    t, mle, sali, gali = (np.full(S, np.nan) for _ in range(4))
+    check_memory(8.0 * (5 * S + 2 * N * (n_dev + 2)), f"{S} chaos samples (N = {N}, n_dev = {n_dev})")
+    t, mle, sali, gali, megno = (np.full(S, np.nan) for _ in range(5))
     res = ll.chaos_result()
     interrupted = False
     try:
         status = _run_with_progress(lattice, method, io, _real(t0, "t0"), y, w, co,
-                                    (t, mle, sali, gali), res, progress)
+                                    (t, mle, sali, gali, megno), res, progress)
         message = last_error() if status != 0 else ""
     except KeyboardInterrupt:            # keep what was computed (Interrupted.result)
         interrupted, status, message = True, 0, ""
@@ -186,7 +189,7 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
                       params={"N": N, "model": lattice.model, "tau": lattice.tau,
                               "seed": lattice.seed, "t_end": t_end, "dt": io.dt,
                               "renorm_interval": co.renorm_interval},
-                      blew_up=bool(res.blew_up), t_blowup=res.t_blowup)
+                      blew_up=bool(res.blew_up), t_blowup=res.t_blowup, megno=megno[:k])
     if interrupted:
         out.completed, out.message = False, f"interrupted (Ctrl-C) at t = {res.t_final:.10g}"
         raise Interrupted(out.message, out)

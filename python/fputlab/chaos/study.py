@@ -154,7 +154,8 @@ def _save(path: Path, spec_json: str, c, ih, arrays, message: str, wall: float,
         np.savez(f, spec=np.array(spec_json), steps=np.int64(ih.steps()),
                  t=np.float64(ih.time()), state=state, acc=acc,
                  s_t=arrays["t"], s_mle=arrays["mle"], s_sali=arrays["sali"],
-                 s_gali=arrays["gali"], message=np.array(message), wall=np.float64(wall),
+                 s_gali=arrays["gali"], s_megno=arrays["megno"], message=np.array(message),
+                 wall=np.float64(wall),
                  failed=np.bool_(failed))
         f.flush()
         os.fsync(f.fileno())
@@ -174,6 +175,10 @@ def _load(path: Path, spec_json: str) -> dict | None:
                          f"remove it to recompute that orbit") from None
     if str(d.get("spec")) != spec_json:
         raise ValueError(f"{path}: belongs to another study (other parameters)")
+    if np.size(d.get("acc")) != ll.CHAOS_N_ACCUMULATORS:     # fpl_chaos_save grew (MEGNO)
+        raise ValueError(f"{path}: written by an older fputlab ({np.size(d.get('acc'))} chaos "
+                         f"accumulators, this version keeps {ll.CHAOS_N_ACCUMULATORS}); remove it "
+                         "to recompute that orbit")
     return d
 
 
@@ -187,14 +192,14 @@ def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: s
     lat, c, ih = _handle(spec, N, seed)
     S = spec.n_samples
     arrays = {"t": np.full(S, np.nan), "mle": np.full(S, np.nan), "sali": np.full(S, np.nan),
-              "gali": np.full(S, np.nan), "state_len": 2 * N * 3}
+              "gali": np.full(S, np.nan), "megno": np.full(S, np.nan), "state_len": 2 * N * 3}
     saved = _load(path, spec_json)
     message, wall = "", 0.0
     if saved is not None:
         ih.restore(int(saved["steps"]), float(saved["t"]),
                    np.ascontiguousarray(saved["state"], float))
         c.restore(np.ascontiguousarray(saved["acc"], float))
-        for k in ("t", "mle", "sali", "gali"):
+        for k in ("t", "mle", "sali", "gali", "megno"):
             arrays[k][:] = saved["s_" + k]
         message, wall = str(saved["message"]), float(saved["wall"])
     # pieces of ~1e5 force evaluations per particle between clock checks
@@ -206,7 +211,7 @@ def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: s
     while not failed and not c.done() and t_now < t_until:
         try:
             if c.advance(min(t_now + seg, t_until),
-                         *(arrays[k] for k in ("t", "mle", "sali", "gali"))) > 0:
+                         *(arrays[k] for k in ("t", "mle", "sali", "gali", "megno"))) > 0:
                 message = last_error()          # a blow-up: when and why
         except (FputlabError, ValueError, MemoryError, OSError):
             message, failed = last_error(), True    # a numerical failure: stop this orbit here
@@ -226,11 +231,13 @@ def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: s
 
 # ---- batched pieces: the orbits of one N in the vector lanes (fputlab.chaos.batch) -----------
 # fpl_chaos_save accumulators: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
-# t_final, done, blew_up, t_blowup, completed, t_pending; a batch lane (fpl_chaos_batch_save):
+# t_final, done, blew_up, t_blowup, completed, t_pending, MEGNO's ell_int, y_int, y_prev, megno;
+# a batch lane (fpl_chaos_batch_save):
 # logsum, next, pending, n_samples, t_final, mle, sali, gali, chaotic, t_chaotic, blew_up,
-# t_blowup, blowup_reason, event_index, steps, done, running. A lane computes exactly what
+# t_blowup, blowup_reason, event_index, steps, done, running, MEGNO's ell_int, y_int, y_prev,
+# megno. A lane computes exactly what
 # fpl_chaos computes for its orbit, so an orbit file moves in and out of a lane losslessly.
-_LANE_ACC, _BATCH_HEADER = 17, 8
+_LANE_ACC, _BATCH_HEADER = 21, 8
 
 
 def _lane_from_orbit(acc, steps):
@@ -238,7 +245,8 @@ def _lane_from_orbit(acc, steps):
     pending = not chaotic and t_pending == t_pending
     t_chaotic = float(acc[5]) if chaotic else (t_pending if pending else math.nan)
     return [acc[1], acc[2], float(pending), acc[3], acc[9], acc[6], acc[7], acc[8],
-            float(chaotic), t_chaotic, 0.0, math.nan, 0.0, -1.0, float(steps), 0.0, 1.0]
+            float(chaotic), t_chaotic, 0.0, math.nan, 0.0, -1.0, float(steps), 0.0, 1.0,
+            acc[15], acc[16], acc[17], acc[18]]
 
 
 def _orbit_from_lane(lane, renorm_interval):
@@ -248,7 +256,8 @@ def _orbit_from_lane(lane, renorm_interval):
     return np.array([round(t_final / renorm_interval), lane[0], lane[1], lane[3],
                      float(chaotic), lane[9] if chaotic else math.nan, lane[5], lane[6], lane[7],
                      t_final, float(done), float(blew_up), lane[11],
-                     float(done and not blew_up), t_pending])
+                     float(done and not blew_up), t_pending, lane[17], lane[18], lane[19],
+                     lane[20]])
 
 
 def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
@@ -275,7 +284,7 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
                                 stop_when_chaotic=spec.stop_when_chaotic)
     y0 = np.ascontiguousarray(np.stack([lat.mode_state() for lat in lats]))
     b = ll.ChaosBatchHandle([lat._h for lat in lats], spec.method, io, 0.0, y0, None, bo)
-    arrays = [np.full((R, S), np.nan) for _ in range(4)]
+    arrays = [np.full((R, S), np.nan) for _ in range(5)]
     lane_len = 2 * N * (k + 1)
     walls = [0.0] * R
     if saved[0] is not None:          # into the lanes: the orbits' own accumulators and states
@@ -286,7 +295,7 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
             p = _BATCH_HEADER + r * (_LANE_ACC + lane_len)
             buf[p:p + _LANE_ACC] = _lane_from_orbit(d["acc"], steps)
             buf[p + _LANE_ACC:p + _LANE_ACC + lane_len] = d["state"]
-            for a, name in zip(arrays, ("t", "mle", "sali", "gali")):
+            for a, name in zip(arrays, ("t", "mle", "sali", "gali", "megno")):
                 a[r] = d["s_" + name]
             walls[r] = float(d["wall"])
         b.restore(buf)
@@ -309,7 +318,7 @@ def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
                 np.savez(f, spec=np.array(spec_json), steps=np.int64(lane[14]),
                          t=np.float64(t_file), state=tmp_state, acc=acc,
                          s_t=arrays[0][r], s_mle=arrays[1][r], s_sali=arrays[2][r],
-                         s_gali=arrays[3][r], message=np.array(msg),
+                         s_gali=arrays[3][r], s_megno=arrays[4][r], message=np.array(msg),
                          wall=np.float64(walls[r] + cpu / R), failed=np.bool_(False))
                 f.flush()
                 os.fsync(f.fileno())
@@ -460,10 +469,10 @@ class ChaosStudy:
                 continue
             acc = d["acc"]
             # accumulators: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
-            # t_final, done, blew_up, t_blowup, completed, t_pending (fpl_chaos_save)
+            # t_final, done, blew_up, t_blowup, completed, t_pending, MEGNO's 4 (fpl_chaos_save)
             k = int(acc[3])
-            t, mle, sali, gali = (np.asarray(d["s_" + n], float)[:k]
-                                  for n in ("t", "mle", "sali", "gali"))
+            t, mle, sali, gali, megno = (np.asarray(d["s_" + n], float)[:k]
+                                         for n in ("t", "mle", "sali", "gali", "megno"))
             blew_up = bool(acc[11])
             res = ChaosResult(t=t, mle=mle, sali=sali, gali=gali, chaotic=bool(acc[4]),
                               t_chaotic=float(acc[5]), t_final=float(acc[9]),
@@ -471,7 +480,7 @@ class ChaosStudy:
                               completed=bool(acc[13]), message=str(d["message"]),
                               params={"N": N, "model": self.spec.model, "tau": self.spec.tau,
                                       "seed": seed, "t_end": self.spec.t_end, "dt": self.spec.dt},
-                              blew_up=blew_up, t_blowup=float(acc[12]))
+                              blew_up=blew_up, t_blowup=float(acc[12]), megno=megno)
             t_reached = float(acc[12]) if blew_up else float(d["t"])
             done = bool(acc[10]) or bool(d.get("failed", False))
             out.append(OrbitState(N, seed, t_reached, done, res, float(d["wall"])))

@@ -11,11 +11,12 @@ from .figures import _parser_figures
 from .methods import _parser_demo, _parser_methods
 from .reduction import _parser_bifurcation, _parser_coefficients, _parser_tauc
 from .simulate import _parser_simulate
+from .spectrum import _parser_spectrum
 from .sweep import _parser_sweep
 
-SUBCOMMANDS = (_parser_demo, _parser_simulate, _parser_blowup, _parser_chaos, _parser_sweep,
-               _parser_coefficients, _parser_tauc, _parser_bifurcation, _parser_figures,
-               _parser_methods)
+SUBCOMMANDS = (_parser_demo, _parser_simulate, _parser_blowup, _parser_chaos, _parser_spectrum,
+               _parser_sweep, _parser_coefficients, _parser_tauc, _parser_bifurcation,
+               _parser_figures, _parser_methods)
 
 
 def build_parser():

@@ -33,12 +33,13 @@ def _signature_defaults(fn) -> dict:
 def python_defaults() -> dict:
     """{Python function name: {parameter: default}} of the functions the subcommands call."""
     from ..blowup import blowup_sweep, blowup_time
-    from ..chaos import chaotic_fraction, lyapunov
+    from ..chaos import chaotic_fraction, lyapunov, lyapunov_spectrum
     from ..ensemble import run_sweep
     from ..lattice import Lattice
     return {"Lattice": _signature_defaults(Lattice.__init__),
             "integrate": _signature_defaults(Lattice.integrate),
             "lyapunov": _signature_defaults(lyapunov),
+            "lyapunov_spectrum": _signature_defaults(lyapunov_spectrum),
             "blowup_time": _signature_defaults(blowup_time),
             "blowup_sweep": _signature_defaults(blowup_sweep),
             "chaotic_fraction": _signature_defaults(chaotic_fraction),

@@ -512,6 +512,10 @@ def chaos_to_file(lattice: Lattice, t_end: float, out, *, method: str = "yoshida
     resumed = None
     if resuming:
         acc = load_checkpoint(checkpoint, ih, info, n_acc + len(settings))
+        if acc.size not in (n_acc, n_acc + len(settings)):  # fpl_chaos_save grew (MEGNO)
+            raise ValueError(f"checkpoint: {checkpoint} holds {acc.size} chaos accumulators, this "
+                             f"version needs {n_acc} (written by an older fputlab; refused, "
+                             "nothing changed)")
         if acc.size == n_acc + len(settings):
             for (name, want), have in zip(settings.items(), acc[n_acc:]):
                 if have != want:
