@@ -15,9 +15,10 @@ LAYERS = [
     ("private helpers", {"_native", "_errors", "_arrays", "_validate", "_display", "_figure",
                          "_engine"}),
     ("low level", {"_lowlevel", "_pacing"}),
-    ("model", {"lattice", "modes"}),
+    ("model", {"lattice", "modes", "initial_states"}),
     ("integrate", {"integrate"}),
-    ("analysis", {"analysis", "chaos", "_chaos_result", "chaos_batch", "blowup", "reduction"}),
+    ("analysis", {"analysis", "chaos", "_chaos_result", "chaos_batch", "blowup", "reduction",
+                  "thermalization"}),
     ("files and ensembles", {"io", "ensemble", "study"}),
     ("plots and figures", {"plotting", "figures", "figures_reduction", "demo"}),
     ("interface", {"cli", "__main__", ""}),       # "": the package itself (fputlab/__init__.py)
