@@ -826,9 +826,14 @@ def _parser_methods(sub, parents):
     s.set_defaults(func=cmd_methods)
 
 
+def _parser_thermalization(sub, parents):
+    from .cli_thermalization import add_parser
+    add_parser(sub, _DefaultsFormatter)
+
+
 SUBCOMMANDS = (_parser_demo, _parser_simulate, _parser_blowup, _parser_chaos, _parser_sweep,
                _parser_coefficients, _parser_tauc, _parser_bifurcation, _parser_figures,
-               _parser_methods)
+               _parser_methods, _parser_thermalization)
 
 
 def build_parser():

@@ -19,9 +19,11 @@ LAYERS = [
     ("integrate", {"integrate"}),
     ("analysis", {"analysis", "chaos", "_chaos_result", "chaos_batch", "blowup", "reduction",
                   "thermalization"}),
-    ("files and ensembles", {"io", "ensemble", "study"}),
-    ("plots and figures", {"plotting", "figures", "figures_reduction", "demo"}),
-    ("interface", {"cli", "__main__", ""}),       # "": the package itself (fputlab/__init__.py)
+    ("files and ensembles", {"io", "ensemble", "study", "thermalization_study"}),
+    ("plots and figures", {"plotting", "figures", "figures_reduction", "demo",
+                           "figures_thermalization"}),
+    # "": the package itself (fputlab/__init__.py)
+    ("interface", {"cli", "cli_thermalization", "__main__", ""}),
 ]
 #: modules allowed to import the cffi extension (`lib`, `ffi`)
 C_BRIDGE = {"_native", "_errors", "_arrays", "_lowlevel"}
