@@ -70,12 +70,13 @@ def cmd_thermalization(a) -> int:
           f"{list(sp['band'])}, {sp['orbits']} orbits, {sp['method']} dt = {sp['dt']:g}, "
           f"eta threshold {sp['threshold']:g}")
     print(f"{'eps':>7} {'E':>9} {'T_eq':>9} {'90% interval':>21} {'t reached':>10} "
-          f"{'eta(t)':>7} {'|dE/E|':>8} {'CPU s':>7}")
+          f"{'eta(t)':>7} {'|dE/E|':>8} {'CPU s':>7} {'lost':>4}")
     for p in res["points"]:
         lo, hi = p["interval"]
         print(f"{p['eps']:7.4g} {p['E']:9.4g} {_fmt(p['t_eq']):>9} "
               f"{'[' + _fmt(lo) + ', ' + _fmt(hi) + ']':>21} {_fmt(p['t_reached']):>10} "
-              f"{_fmt(p['eta_last']):>7} {_fmt(p['energy_error']):>8} {p['wall']:7.1f}")
+              f"{_fmt(p['eta_last']):>7} {_fmt(p['energy_error']):>8} {p['wall']:7.1f} "
+              f"{p['failed']:>4}")
     fit = res["fit"]
     if fit is None:
         print("fit: fewer than 2 points have crossed the threshold")
@@ -83,6 +84,8 @@ def cmd_thermalization(a) -> int:
         lo, hi = fit["interval"]
         print(f"fit: T_eq ~ eps^-a, a = {fit['exponent']:.3f}, 90% interval "
               f"[{_fmt(lo)}, {_fmt(hi)}] over {fit['points']} points")
+    print("(lost: orbits that crossed the alpha barrier and left the ensemble; |dE/E|: the "
+          "largest relative energy error of the kept orbits)")
     if complete is False:
         print("(stopped early: rerun the same command to continue)")
     if a.figure:

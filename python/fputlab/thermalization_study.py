@@ -34,6 +34,7 @@ import numpy as np
 
 from ._validate import _int, _real
 from .initial_states import boundary_of, random_phases, wave_energies
+from ._errors import IntegrationError
 from .integrate import Integrator, method_info
 from .lattice import Lattice
 from .thermalization import equipartition_time, fit_power_law
@@ -193,8 +194,17 @@ def run_segment(spec: ThermalizationSpec, point: int, orbit: int, segment: int,
     back = w * (np.arange(spec.sub_samples) + 1.0) / spec.sub_samples
     raw = np.maximum(ts[:, None] - w + back[None, :], seg_start).ravel()
     order = np.argsort(raw, kind="stable")
-    _, st, _, en_sorted = it.sample(raw[order], states=True, mode_energies=False,
-                                    energies=True)
+    try:
+        _, st, _, en_sorted = it.sample(raw[order], states=True, mode_energies=False,
+                                        energies=True)
+    except IntegrationError as err:
+        # an alpha-FPUT orbit can cross its barrier (blow-up): it leaves the ensemble, and
+        # the study reports how many did and when
+        nan = np.full(ts.size, np.nan)
+        return {"t": ts, "e": np.full((ts.size, len(wave_energies(lat, y0))), np.nan),
+                "energy": nan, "energy_min": nan, "E0": np.float64(lat.energy(y0)),
+                "steps": np.int64(it.steps), "t_end": np.float64(it.t), "state": it.state,
+                "failed": np.bool_(True), "message": np.array(str(err))}
     e_sorted = wave_energies(lat, st[:, 0, :])
     e = np.empty_like(e_sorted)
     e[order] = e_sorted
@@ -204,7 +214,8 @@ def run_segment(spec: ThermalizationSpec, point: int, orbit: int, segment: int,
     en = en.reshape(ts.size, spec.sub_samples)
     return {"t": ts, "e": e, "energy": en.max(axis=1), "energy_min": en.min(axis=1),
             "E0": np.float64(lat.energy(y0)), "steps": np.int64(it.steps),
-            "t_end": np.float64(it.t), "state": it.state}
+            "t_end": np.float64(it.t), "state": it.state, "failed": np.bool_(False),
+            "message": np.array("")}
 
 
 # -- files ---------------------------------------------------------------------------------
@@ -256,7 +267,14 @@ def _run_task(spec_json: str, work: str, point: int, orbit: int, segment: int) -
     path = _task_path(work, point, orbit, segment)
     path.parent.mkdir(parents=True, exist_ok=True)
     _atomic_savez(path, wall=np.float64(wall), **res)
+    if res["failed"]:
+        _atomic_text(_failed_path(work, point, orbit),
+                     json.dumps({"segment": segment, "message": str(res["message"])}))
     return wall
+
+
+def _failed_path(work: Path, point: int, orbit: int) -> Path:
+    return work / f"p{point:02d}" / f"o{orbit:04d}_failed.json"
 
 
 def spec_from_json(text: str) -> ThermalizationSpec:
@@ -307,42 +325,55 @@ class ThermalizationStudy:
     def _segments_done(self, point: int) -> int:
         """Segments every orbit of the point has finished."""
         n = 0
+        failed = self._failed(point)
         for s in range(len(self.spec.segment_ends())):
-            if all(_task_path(self.work, point, o, s).exists() for o in range(self.spec.orbits)):
+            if all(o in failed or _task_path(self.work, point, o, s).exists()
+                   for o in range(self.spec.orbits)):
                 n = s + 1
             else:
                 break
         return n
+
+    def _failed(self, point: int) -> set:
+        """Orbits of the point that blew up (they leave the ensemble)."""
+        return {o for o in range(self.spec.orbits) if _failed_path(self.work, point, o).exists()}
 
     def point_data(self, point: int) -> dict | None:
         """The point's samples so far: ``t`` (S,), ``e`` (R, S, M), relative energy error."""
         done = self._segments_done(point)
         if not done:
             return None
-        ts, es, err = [], [], 0.0
+        ts, es, err = None, [], 0.0
+        failed = self._failed(point)
+        walls = 0.0
         for o in range(self.spec.orbits):
-            parts = [_load_task(_task_path(self.work, point, o, s)) for s in range(done)]
+            parts = [_load_task(_task_path(self.work, point, o, s)) for s in range(done)
+                     if _task_path(self.work, point, o, s).exists()]
+            walls += sum(float(p["wall"]) for p in parts)
+            if o in failed:
+                continue
             es.append(np.concatenate([p["e"] for p in parts]))
-            if o == 0:
+            if ts is None:
                 ts = np.concatenate([p["t"] for p in parts])
             E0 = float(parts[0]["E0"])
             for p in parts:
                 err = max(err, float(np.max(np.abs(np.concatenate(
                     [p["energy"], p["energy_min"]]) / E0 - 1))))
-        walls = sum(float(_load_task(_task_path(self.work, point, o, s))["wall"])
-                    for o in range(self.spec.orbits) for s in range(done))
-        return {"t": ts, "e": np.stack(es), "energy_error": err, "segments": done,
-                "wall": walls}
+        # fewer than 2 orbits left (the rest blew up): no ensemble, e is None
+        return {"t": ts, "e": np.stack(es) if len(es) >= 2 else None, "energy_error": err,
+                "segments": done, "wall": walls, "failed": len(failed)}
 
     def _point_finished(self, point: int) -> bool:
         d = self.point_data(point)
         if d is None:
             return False
-        if d["segments"] == len(self.spec.segment_ends()):
+        if d["segments"] == len(self.spec.segment_ends()) or d["e"] is None:
             return True
-        res = equipartition_time(d["t"], d["e"], threshold=self.spec.threshold, n_boot=0)
-        # stop once eta has crossed and the last two samples are below the threshold too
-        return bool(np.isfinite(res["t_eq"]) and np.all(res["eta"][-2:] <= self.spec.threshold))
+        res = equipartition_time(d["t"], d["e"], threshold=self.spec.threshold, n_boot=100,
+                                 seed=self.spec.seed)
+        # stop once eta has crossed and so have 95 % of the bootstrap ensembles: the
+        # interval is then defined (a crossing at the last sample alone would leave it open)
+        return bool(np.isfinite(res["t_eq"]) and np.isfinite(res["boot"]).mean() >= 0.95)
 
     # -- running -----------------------------------------------------------------------------
     def run(self, *, t_until: float | None = None, max_seconds: float | None = None,
@@ -395,14 +426,17 @@ class ThermalizationStudy:
             d = self.point_data(p)
             row = {"eps": eps, "E": spec.energy(eps), "t_eq": math.nan,
                    "interval": (math.nan, math.nan), "t_reached": 0.0, "eta_last": math.nan,
-                   "energy_error": math.nan, "wall": 0.0, "orbit_time": 0.0}
-            if d is not None:
+                   "energy_error": math.nan, "wall": 0.0, "orbit_time": 0.0, "failed": 0}
+            if d is not None and d["e"] is None:
+                row.update(failed=d["failed"], wall=d["wall"])
+            elif d is not None:
                 res = equipartition_time(d["t"], d["e"], threshold=spec.threshold,
                                          n_boot=spec.n_boot, seed=spec.seed + p)
                 row.update(t_eq=res["t_eq"], interval=res["interval"], boot=res["boot"],
                            t=d["t"], eta=res["eta"], t_reached=float(d["t"][-1]),
                            eta_last=float(res["eta"][-1]), energy_error=d["energy_error"],
                            wall=d["wall"], orbit_time=float(d["t"][-1]) * spec.orbits,
+                           failed=d["failed"],
                            finished=self._point_finished(p))
             points.append(row)
         crossed = [r for r in points if np.isfinite(r["t_eq"])]
