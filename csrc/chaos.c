@@ -24,17 +24,18 @@ void fpl_chaos_options_init(fpl_chaos_options *opt)
     opt->blowup_stretch = 0.0;
 }
 
-/* Largest bond stretch of the orbit x (fixed ends x_0 = x_{N+1} = 0); NaN if x is not finite
- * (fmax would drop a NaN, so non-finite values are propagated by hand). */
-static double max_stretch(const double *x, int n)
+/* Largest bond stretch of the orbit x (fixed ends x_0 = x_{N+1} = 0, or a ring: the
+ * wrap-around bond x_0 - x_{N-1}); NaN if x is not finite (fmax would drop a NaN, so non-finite
+ * values are propagated by hand). */
+static double max_stretch(const double *x, int n, int ring)
 {
-    double s = fabs(x[0]), nonfinite = 0.0;
+    double s = ring ? fabs(x[0] - x[n - 1]) : fabs(x[0]), nonfinite = 0.0;
     for (int j = 0; j + 1 < n; j++) {
         const double d = fabs(x[j + 1] - x[j]);
         s = d > s ? d : s;
         nonfinite += x[j] - x[j];        /* 0, or NaN as soon as one x_j is Inf/NaN */
     }
-    s = fabs(x[n - 1]) > s ? fabs(x[n - 1]) : s;
+    if (!ring) s = fabs(x[n - 1]) > s ? fabs(x[n - 1]) : s;
     return s + nonfinite + (x[n - 1] - x[n - 1]);
 }
 
@@ -268,8 +269,10 @@ int fpl_chaos_create(const fpl_lattice *lattice, const char *method,
     c->opt = *opt;
     c->n = lattice->n;
     c->lattice = lattice;
+    /* automatic (0): the potential's nearest barrier, none if it has none (fpl_lattice_barrier) */
+    const double barrier = fpl_barrier_stretch(lattice);
     c->stretch_limit = opt->blowup_stretch > 0 ? opt->blowup_stretch
-                     : opt->blowup_stretch == 0 && lattice->alpha > 0 ? 1.0 / lattice->alpha : 0.0;
+                     : opt->blowup_stretch == 0 && isfinite(barrier) ? barrier : 0.0;
     {
         int order = 0, adaptive = 0;
         const double dt = integrator_options ? integrator_options->dt : 0.01;
@@ -359,10 +362,12 @@ int fpl_chaos_advance(fpl_chaos *c, double t_until, double *t_out, double *mle_o
                            fpl_last_error());
         if (st) break;
         if (c->stretch_limit > 0) {       /* before SALI: a runaway orbit aligns the vectors */
-            const double s = max_stretch(y, c->n);
+            const double s = max_stretch(y, c->n, c->lattice->boundary == FPL_BOUNDARY_PERIODIC);
             if (!(s <= c->stretch_limit))
                 return blew_up(c, t, "blow-up: a bond stretch |x_{j+1} - x_j| = %.4g exceeds %.4g "
-                               "(the barrier 1/alpha) at t = %.10g", s, c->stretch_limit, t);
+                               "(%s) at t = %.10g", s, c->stretch_limit,
+                               c->opt.blowup_stretch > 0 ? "blowup_stretch"
+                                                         : "the potential's barrier", t);
         }
         double n1 = 0.0;
         for (int i = 0; i < k; i++) {

@@ -719,6 +719,13 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
     for (int r = 0; r < R; r++) {
         const fpl_lattice *l = lattices[r], *l0 = lattices[0];
         if (!l) return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: NULL handle", r);
+        /* the lane kernels know the fixed-end FPUT-alpha-beta chains only */
+        if (l->boundary != FPL_BOUNDARY_FIXED)
+            return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: boundary: the batch kernel supports "
+                             "fixed ends only (use fpl_chaos for a periodic chain)", r);
+        if (l->ops->model == FPL_MODEL_TODA)
+            return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: model: the batch kernel does not "
+                             "support the Toda lattice (use fpl_chaos)", r);
         if (l->n != l0->n)
             return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: N = %d differs from lattices[0] "
                              "(N = %d): a batch holds orbits of one N", r, l->n, l0->n);
@@ -835,8 +842,10 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     if (io && io->events) B->ev = *io->events;
     for (int i = 0; i < B->ev.n; i++)
         fpl_events_describe(&B->ev, i, B->ev_desc[i], sizeof B->ev_desc[i]);
+    /* automatic (0): the potential's nearest barrier, none if it has none, as fpl_chaos */
+    const double barrier = fpl_barrier_stretch(lattices[0]);
     B->stretch_limit = opt->chaos.blowup_stretch > 0 ? opt->chaos.blowup_stretch
-                     : opt->chaos.blowup_stretch == 0 && B->alpha > 0 ? 1.0 / B->alpha : 0.0;
+                     : opt->chaos.blowup_stretch == 0 && isfinite(barrier) ? barrier : 0.0;
     const size_t S = (size_t)B->S, dim = (size_t)len * (k + 1) * S;
     ALLOC(B->lat, R);
     if (fpl_work_create(n, 0, &B->work) != FPL_OK) {

@@ -54,7 +54,9 @@ void fpl_events_eval(const fpl_lattice *lat, fpl_work *work, const fpl_event_set
             for (int j = 0; j < n; j++) value = fmax(value, fabs(y[j]));
             break;
         case FPL_EVENT_MAX_STRETCH:
-            value = fmax(fabs(y[0]), fabs(y[n - 1]));
+            /* the bonds to the walls, or the ring's wrap-around bond */
+            value = lat->boundary == FPL_BOUNDARY_PERIODIC ? fabs(y[0] - y[n - 1])
+                                                            : fmax(fabs(y[0]), fabs(y[n - 1]));
             for (int j = 1; j < n; j++) value = fmax(value, fabs(y[j] - y[j - 1]));
             break;
         default:

@@ -57,6 +57,14 @@ int fpl_harmonic_run_setup(const fpl_splitting *scheme, fpl_split_run *run)
 {
     const fpl_lattice *lat = run->lc.lat;
     const int n = lat->n;
+    if (lat->boundary != FPL_BOUNDARY_FIXED)
+        return fpl_error(NULL, FPL_ERR_ARG, "boundary: method '%s' integrates the fixed-end harmonic "
+                         "chain exactly (its sine modes); a periodic chain needs 'aba864' instead",
+                         scheme->name);
+    if (lat->ops->model == FPL_MODEL_TODA)
+        return fpl_error(NULL, FPL_ERR_ARG, "model: method '%s' splits off the harmonic chain and "
+                         "kicks with the polynomial anharmonic force; the Toda lattice needs "
+                         "'aba864' instead", scheme->name);
     for (int j = 0; j < n; j++) {
         if (lat->cl[j] != 1.0 || lat->s[j] != 1.0 || lat->minv[j] != 1.0)
             return fpl_error(NULL, FPL_ERR_ARG,

@@ -67,11 +67,23 @@ typedef struct fpl_model_ops {
     void (*steps)(const fpl_splitting *scheme, void *ctx, double *y, double dt, long n);
     /* energy of a 2N state */
     double (*energy)(const fpl_lattice *lat, const double *y);
+    /* The entries below are zero for the polynomial fixed-end models of models.c' ops_table.
+     * boundary: FPL_BOUNDARY_FIXED or FPL_BOUNDARY_PERIODIC (the lookup is by model and
+     * boundary, fpl_model_ops_lookup). force, tangent, jacobian_entries: optional replacements of
+     * the generic kernels fpl_kernel_force, fpl_kernel_tangent, fpl_kernel_jacobian_entries (the
+     * periodic chains and the Toda lattice, models_any.c). */
+    int boundary;
+    void (*force)(const fpl_lattice *lat, fpl_work *work, const double *x, double *f);
+    void (*tangent)(const fpl_lattice *lat, fpl_work *work, const double *x, int n_dev,
+                    const double *dx, double *df);
+    void (*jacobian_entries)(const fpl_lattice *lat, const double *y, int n_dev,
+                             void (*emit)(void *ctx, long row, long col, double value), void *ctx);
 } fpl_model_ops;
 
 /* Immutable after fpl_lattice_create. */
 struct fpl_lattice {
     int n;
+    int boundary;   /* FPL_BOUNDARY_FIXED or FPL_BOUNDARY_PERIODIC */
     double alpha, beta;
     const fpl_model_ops *ops;
     double *v;      /* N */
@@ -81,8 +93,10 @@ struct fpl_lattice {
     double *minv;   /* N */
 };
 
-/* NULL, or the model's entry. */
+/* NULL, or the model's entry (fixed ends). */
 const fpl_model_ops *fpl_model_ops_for(int model);
+/* NULL, or the entry of the model with that boundary condition. */
+const fpl_model_ops *fpl_model_ops_lookup(int model, int boundary);
 /* FPL_ERR_UNKNOWN "model %d is unknown (1 homogeneous, ...)" listing the table. */
 int fpl_model_unknown(int model);
 
@@ -237,5 +251,9 @@ void fpl_kernel_anharmonic_tangent(const fpl_lattice *lat, fpl_work *work, const
                                    double *df);
 
 int fpl_is_finite_array(const double *a, long len, long *first_bad);
+
+/* The nearest barrier of the bond potential in |stretch|, min(-lower, upper) of
+ * fpl_lattice_barrier: INFINITY if there is none (barrier.c). */
+double fpl_barrier_stretch(const fpl_lattice *lattice);
 
 #endif

@@ -31,6 +31,12 @@ static void *xcalloc(size_t n) { return calloc(n ? n : 1, sizeof(double)); }
 int fpl_lattice_create(int n, double alpha, double beta, int model, const double *v,
                        fpl_lattice **out)
 {
+    return fpl_lattice_create_ex(n, alpha, beta, model, v, FPL_BOUNDARY_FIXED, out);
+}
+
+int fpl_lattice_create_ex(int n, double alpha, double beta, int model, const double *v,
+                          int boundary, fpl_lattice **out)
+{
     if (!out)
         return fpl_error(NULL, FPL_ERR_ARG, "out: NULL pointer");
     *out = NULL;
@@ -40,9 +46,27 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
         return fpl_error(NULL, FPL_ERR_ARG, "alpha must be finite (got %g)", alpha);
     if (!isfinite(beta))
         return fpl_error(NULL, FPL_ERR_ARG, "beta must be finite (got %g)", beta);
-    const fpl_model_ops *ops = fpl_model_ops_for(model);
-    if (!ops)
+    if (boundary != FPL_BOUNDARY_FIXED && boundary != FPL_BOUNDARY_PERIODIC)
+        return fpl_error(NULL, FPL_ERR_ARG,
+                         "boundary must be %d (fixed) or %d (periodic) (got %d)",
+                         FPL_BOUNDARY_FIXED, FPL_BOUNDARY_PERIODIC, boundary);
+    const fpl_model_ops *ops = fpl_model_ops_lookup(model, boundary);
+    /* the coefficients follow from the model alone: the fixed-end entry's */
+    const fpl_model_ops *fixed = fpl_model_ops_for(model);
+    if (!ops || !fixed)
         return fpl_model_unknown(model);
+    if (model == FPL_MODEL_TODA) {
+        if (beta != 0.0)
+            return fpl_error(NULL, FPL_ERR_ARG, "beta must be 0 for the Toda model (got %g): its "
+                             "potential is fixed by alpha", beta);
+        if (alpha == 0.0)
+            return fpl_error(NULL, FPL_ERR_ARG, "alpha must be non-zero for the Toda model (alpha "
+                             "= 0 is the harmonic chain: model homogeneous)");
+        for (int j = 0; v && j < n; j++)
+            if (v[j] != 1.0)
+                return fpl_error(NULL, FPL_ERR_ARG, "v[%d] = %g: the Toda model is homogeneous "
+                                 "(v = 1; disorder breaks its integrability)", j, v[j]);
+    }
     if (v) {
         for (int j = 0; j < n; j++) {
             if (!isfinite(v[j]) || v[j] <= 0.0)
@@ -57,6 +81,7 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
     if (!lat)
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating the lattice");
     lat->n = n;
+    lat->boundary = boundary;
     lat->alpha = alpha;
     lat->beta = beta;
     lat->ops = ops;
@@ -72,7 +97,7 @@ int fpl_lattice_create(int n, double alpha, double beta, int model, const double
     }
     for (int j = 0; j < n; j++) {
         lat->v[j] = v ? v[j] : 1.0;
-        ops->coefficients(lat->v[j], &lat->cl[j], &lat->cn[j], &lat->s[j], &lat->minv[j]);
+        fixed->coefficients(lat->v[j], &lat->cl[j], &lat->cn[j], &lat->s[j], &lat->minv[j]);
     }
     *out = lat;
     return FPL_OK;
@@ -102,6 +127,7 @@ int fpl_lattice_size(const fpl_lattice *lattice) { return lattice ? lattice->n :
 double fpl_lattice_alpha(const fpl_lattice *lattice) { return lattice ? lattice->alpha : NAN; }
 double fpl_lattice_beta(const fpl_lattice *lattice) { return lattice ? lattice->beta : NAN; }
 int fpl_lattice_model(const fpl_lattice *lattice) { return lattice ? lattice->ops->model : 0; }
+int fpl_lattice_boundary(const fpl_lattice *lattice) { return lattice ? lattice->boundary : -1; }
 
 /* Common argument checks; return 0 or an error status already recorded. */
 #define CHECK_LATTICE(lat)                                                                     \
@@ -172,6 +198,10 @@ int fpl_lattice_force_jacobian(const fpl_lattice *lattice, const double *x, doub
     CHECK_PTR(lower);
     CHECK_PTR(diag);
     CHECK_PTR(upper);
+    if (lattice->boundary == FPL_BOUNDARY_PERIODIC)
+        return fpl_error(NULL, FPL_ERR_ARG, "boundary: the force Jacobian of a periodic chain is not "
+                         "tridiagonal (the wrap-around bond couples x_0 and x_{N-1}); use "
+                         "fpl_lattice_jacobian_dense");
     int st = check_finite_input("x", x, lattice->n);
     if (st) return st;
     /* Read the tridiagonal off the p-rows of the first-order Jacobian (orbit block only). */

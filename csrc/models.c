@@ -3,7 +3,7 @@
  * ends) are peeled off so the interior loops vectorise. See internal.h for the notation. */
 #include <stdio.h>
 #include <string.h>
-#include "internal.h"
+#include "models_extra.h"
 
 /* Inlined into the kicks so that their AVX2 clones (FPL_HOT) vectorise these loops 4-wide too. */
 #define FPL_INLINE static inline __attribute__((always_inline))
@@ -414,11 +414,15 @@ static void coefficients_nonlinear(double v, double *cl, double *cn, double *s, 
 /* Adding a model = adding one entry (and its FPL_MODEL_ constant in fputlab/lattice.h). */
 static const fpl_model_ops ops_table[] = {
     {FPL_MODEL_HOMOGENEOUS, "homogeneous", coefficients_homogeneous, drift_unit_mass,
-     kick_homogeneous, steps_homogeneous, energy_hamiltonian},
+     kick_homogeneous, steps_homogeneous, energy_hamiltonian, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
     {FPL_MODEL_HAMILTONIAN, "hamiltonian", coefficients_hamiltonian, drift_masses, kick_generic,
-     NULL, energy_hamiltonian},
+     NULL, energy_hamiltonian, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
     {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, drift_unit_mass, kick_generic,
-     NULL, energy_plain},
+     NULL, energy_plain, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
+    /* model_toda.c; periodic chains: models_periodic.c */
+    {FPL_MODEL_TODA, "toda", fpl_toda_coefficients, drift_unit_mass, fpl_toda_kick_fixed, NULL,
+     fpl_any_energy_hamiltonian, FPL_BOUNDARY_FIXED, fpl_any_force, fpl_any_tangent,
+     fpl_any_jacobian_entries},
 };
 #define N_MODELS (sizeof ops_table / sizeof ops_table[0])
 
@@ -428,6 +432,12 @@ const fpl_model_ops *fpl_model_ops_for(int model)
         if (ops_table[i].model == model)
             return &ops_table[i];
     return NULL;
+}
+
+const fpl_model_ops *fpl_model_ops_lookup(int model, int boundary)
+{
+    return boundary == FPL_BOUNDARY_PERIODIC ? fpl_model_ops_periodic(model)
+                                             : fpl_model_ops_for(model);
 }
 
 int fpl_model_unknown(int model)
@@ -451,6 +461,10 @@ const char *fpl_model_name(int model)
 
 void fpl_kernel_force(const fpl_lattice *lat, fpl_work *w, const double *x, double *f)
 {
+    if (lat->ops->force) {
+        lat->ops->force(lat, w, x, f);
+        return;
+    }
     memset(f, 0, sizeof(double) * (size_t)lat->n);
     bond_forces_generic(lat->n, x, lat->cl, lat->cn, lat->alpha, lat->beta, w->phi, NULL);
     add_divergence(lat->n, 1.0, lat->s, w->phi, f);
@@ -459,6 +473,10 @@ void fpl_kernel_force(const fpl_lattice *lat, fpl_work *w, const double *x, doub
 void fpl_kernel_tangent(const fpl_lattice *lat, fpl_work *w, const double *x, int n_dev,
                         const double *dx, double *df)
 {
+    if (lat->ops->tangent) {
+        lat->ops->tangent(lat, w, x, n_dev, dx, df);
+        return;
+    }
     const int n = lat->n;
     bond_forces_generic(n, x, lat->cl, lat->cn, lat->alpha, lat->beta, w->phi, w->kappa);
     for (int m = 0; m < n_dev; m++) {
@@ -498,6 +516,10 @@ static double stretch(const fpl_lattice *lat, const double *c, const double *x, 
 void fpl_kernel_jacobian_entries(const fpl_lattice *lat, const double *y, int n_dev,
                                  fpl_emit_fn emit, void *ctx)
 {
+    if (lat->ops->jacobian_entries) {
+        lat->ops->jacobian_entries(lat, y, n_dev, emit, ctx);
+        return;
+    }
     const int n = lat->n;
     const double a = lat->alpha, b = lat->beta;
     const double *cl = lat->cl, *cn = lat->cn, *s = lat->s, *x = y;

@@ -41,6 +41,8 @@ int fpl_modes_omega(int n, double *omega)
 int fpl_modes_transform(const fpl_lattice *lattice, const double *x, double *q)
 {
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
+    if (lattice->boundary != FPL_BOUNDARY_FIXED)
+        return fpl_error(NULL, FPL_ERR_ARG, "boundary: periodic normal modes are not implemented yet");
     if (!x || !q) return fpl_error(NULL, FPL_ERR_ARG, "x/q: NULL pointer");
     fpl_work *w = NULL;
     int st = fpl_work_create(lattice->n, 1, &w);
@@ -53,6 +55,8 @@ int fpl_modes_transform(const fpl_lattice *lattice, const double *x, double *q)
 int fpl_modes_energies(const fpl_lattice *lattice, const double *y, double *energies)
 {
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
+    if (lattice->boundary != FPL_BOUNDARY_FIXED)
+        return fpl_error(NULL, FPL_ERR_ARG, "boundary: periodic normal modes are not implemented yet");
     if (!y || !energies) return fpl_error(NULL, FPL_ERR_ARG, "y/energies: NULL pointer");
     fpl_work *w = NULL;
     int st = fpl_work_create(lattice->n, 1, &w);

@@ -67,6 +67,9 @@ int fpl_reduction_coefficients(int n, double alpha, int model, const double *v, 
     int st = check_chain(n, alpha);
     if (st) return st;
     if (!fpl_model_ops_for(model)) return fpl_model_unknown(model);
+    if (model == FPL_MODEL_TODA)
+        return red_error(NULL, FPL_ERR_ARG, "model: the two-mode reduction is derived for the "
+                         "FPUT-alpha chains (models 1-3), not the Toda lattice");
     if (!a || !b) return red_error(NULL, FPL_ERR_ARG, "a/b: NULL pointer");
     const int weighted = model != FPL_MODEL_HOMOGENEOUS && v != NULL;
     if (weighted) {
@@ -178,6 +181,9 @@ int fpl_reduction_moments(int n, double alpha, int model, int kind, double tau, 
     int st = check_chain(n, alpha);
     if (st) return st;
     if (!fpl_model_ops_for(model)) return fpl_model_unknown(model);
+    if (model == FPL_MODEL_TODA)
+        return red_error(NULL, FPL_ERR_ARG, "model: the two-mode reduction is derived for the "
+                         "FPUT-alpha chains (models 1-3), not the Toda lattice");
     if (!(tau >= 0.0) || !isfinite(tau))
         return red_error(NULL, FPL_ERR_ARG, "tau must be finite and >= 0 (got %g)", tau);
     if (kind != FPL_DISORDER_GAUSSIAN && tau >= 100.0)
@@ -427,6 +433,12 @@ int fpl_galerkin_create(const fpl_lattice *lattice, int m, fpl_galerkin **out)
     *out = NULL;
     if (!lattice) return red_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
     const int n = lattice->n;
+    if (lattice->boundary != FPL_BOUNDARY_FIXED)
+        return red_error(NULL, FPL_ERR_ARG, "boundary: the Galerkin truncation uses the fixed-end "
+                         "chain's sine modes; a periodic chain is not supported");
+    if (lattice->ops->model == FPL_MODEL_TODA)
+        return red_error(NULL, FPL_ERR_ARG, "model: the Galerkin truncation projects the "
+                         "polynomial FPUT force; the Toda lattice is not supported");
     if (m < 1 || m > n)
         return red_error(NULL, FPL_ERR_ARG, "M (number of modes) must be in 1..N = %d (got %d)", n,
                          m);

@@ -103,6 +103,10 @@ int fpl_sun_band_widths(const fpl_lattice *lattice, int n_dev, sunindextype *upp
 {
     if (!lattice || !upper || !lower || n_dev < 0)
         return fpl_error(NULL, FPL_ERR_ARG, "lattice/upper/lower NULL or n_dev < 0");
+    if (lattice->boundary == FPL_BOUNDARY_PERIODIC)
+        return fpl_error(NULL, FPL_ERR_ARG, "boundary: the Jacobian of a periodic chain is not "
+                         "banded (the wrap-around bond couples x_0 and x_{N-1}); use a dense "
+                         "matrix");
     sunindextype n = lattice->n;
     *upper = n;                               /* x'_i depends on p_i */
     *lower = n + 1 + 2 * n * (sunindextype)n_dev; /* p'-rows on x; last block's dp' on the orbit x */
@@ -124,7 +128,10 @@ int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *use
         return 0;
     case SUNMATRIX_BAND: {
         sunindextype mu, ml;
-        fpl_sun_band_widths(lat, n_dev, &mu, &ml);
+        if (fpl_sun_band_widths(lat, n_dev, &mu, &ml)) {
+            fpl_error(sys->errmsg, FPL_ERR_ARG, "%s", fpl_last_error());
+            return -1;
+        }
         if (SM_UBAND_B(jac) < mu || SM_LBAND_B(jac) < ml) {
             fpl_error(sys->errmsg, FPL_ERR_ARG,
                       "band matrix has bandwidths (mu %ld, ml %ld); need (%ld, %ld)",

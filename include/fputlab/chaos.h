@@ -31,8 +31,9 @@ typedef struct fpl_chaos_options {
     unsigned long seed;       /* random initial deviation vectors when w0 is NULL */
     double blowup_stretch;    /* a bond stretch |x_{j+1} - x_j| above this at a renormalisation
                                  ends the run as a blow-up (checked before SALI, so a runaway orbit
-                                 is never called chaotic). 0 (default): automatic, 1/alpha (the
-                                 cubic potential's barrier) for alpha > 0, else none; < 0: none. */
+                                 is never called chaotic). 0 (default): automatic, the nearest
+                                 barrier of the bond potential (fpl_lattice_barrier: 1/alpha for
+                                 FPUT-alpha, none for alpha^2 <= 4 beta or Toda); < 0: none. */
 } fpl_chaos_options;
 
 /* Exactly one class per orbit (fpl_chaos_classify). */

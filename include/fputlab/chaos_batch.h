@@ -13,7 +13,8 @@
  *
  * Per lane:
  *   - blow-up: the lane stops when its state becomes non-finite or a bond stretch exceeds
- *     blowup_stretch (1/alpha by default; both checked at every renormalisation, before SALI, as
+ *     blowup_stretch (by default the potential's barrier, fpl_lattice_barrier; both checked at
+ *     every renormalisation, before SALI, as
  *     fpl_chaos does) or when a stopping criterion of integrator_options->events fires
  *     (fputlab/events.h; kinds FPL_EVENT_MAX_STRETCH, FPL_EVENT_MAX_DISPLACEMENT and
  *     FPL_EVENT_ENERGY, checked every 16 steps as fpl_integrator does; the event time is then

@@ -33,8 +33,18 @@ extern "C" {
 typedef enum fpl_model {
     FPL_MODEL_HOMOGENEOUS = 1,
     FPL_MODEL_HAMILTONIAN = 2,
-    FPL_MODEL_NONLINEAR = 3
+    FPL_MODEL_NONLINEAR = 3,
+    FPL_MODEL_TODA = 4
 } fpl_model;
+
+/* Boundary conditions. FIXED: N particles between two walls, N + 1 bonds (x_0 = x_{N+1} = 0 in
+ * the paper's 1-based numbering). PERIODIC: a ring of N particles and N bonds, bond b joining
+ * particle b-1 and b (0-based) with particle -1 the particle N-1; disorder coefficients are
+ * indexed mod N. */
+typedef enum fpl_boundary {
+    FPL_BOUNDARY_FIXED = 0,
+    FPL_BOUNDARY_PERIODIC = 1
+} fpl_boundary;
 
 typedef struct fpl_lattice fpl_lattice;
 
@@ -43,6 +53,11 @@ typedef struct fpl_lattice fpl_lattice;
  * unknown model. */
 FPL_API int fpl_lattice_create(int n, double alpha, double beta, int model, const double *v,
                                fpl_lattice **out);
+/* The same with a boundary condition (FPL_BOUNDARY_FIXED or FPL_BOUNDARY_PERIODIC);
+ * fpl_lattice_create is fpl_lattice_create_ex(..., FPL_BOUNDARY_FIXED, out).
+ * FPL_MODEL_TODA refuses beta != 0 and a non-uniform v (the Toda chain is homogeneous). */
+FPL_API int fpl_lattice_create_ex(int n, double alpha, double beta, int model, const double *v,
+                                  int boundary, fpl_lattice **out);
 FPL_API void fpl_lattice_free(fpl_lattice **lattice);
 
 /* A shared, read-only lattice keeps no message of its own: this is fpl_last_error(), the message
@@ -53,15 +68,25 @@ FPL_API int fpl_lattice_size(const fpl_lattice *lattice);
 FPL_API double fpl_lattice_alpha(const fpl_lattice *lattice);
 FPL_API double fpl_lattice_beta(const fpl_lattice *lattice);
 FPL_API int fpl_lattice_model(const fpl_lattice *lattice);
+/* FPL_BOUNDARY_FIXED or FPL_BOUNDARY_PERIODIC (-1 for a NULL lattice). */
+FPL_API int fpl_lattice_boundary(const fpl_lattice *lattice);
 FPL_API const char *fpl_model_name(int model);
 /* Copy the variability into v (length n must equal N). */
 FPL_API int fpl_lattice_get_v(const fpl_lattice *lattice, double *v, int n);
+
+/* The top of the bond potential's barrier on either side of r = 0: *lower < 0 < *upper are
+ * the nearest non-zero roots of V'(r), -INFINITY / INFINITY where there is none. FPUT-alpha-beta:
+ * the roots of 1 + alpha r + beta r^2 (beta = 0: -1/alpha; alpha^2 <= 4 beta: none); Toda: none.
+ * Past a barrier a bond has left the well around r = 0 (the default blow-up criterion). For
+ * models 2 and 3 it is the barrier of V in the weighted stretch r_j (v_j = 1: the plain one). */
+FPL_API int fpl_lattice_barrier(const fpl_lattice *lattice, double *lower, double *upper);
 
 /* Force F(x) = p' (length N). */
 FPL_API int fpl_lattice_force(const fpl_lattice *lattice, const double *x, double *force);
 
 /* Tridiagonal Jacobian dF/dx at x: lower[j] = dF_{j+1}/dx_j, diag[j] = dF_j/dx_j,
- * upper[j] = dF_j/dx_{j+1} (0-based; lower and upper have N-1 entries). Symmetric for models 1-2. */
+ * upper[j] = dF_j/dx_{j+1} (0-based; lower and upper have N-1 entries). Symmetric for models 1-2.
+ * Fixed ends only: a periodic chain's is not tridiagonal (FPL_ERR_ARG; use the dense Jacobian). */
 FPL_API int fpl_lattice_force_jacobian(const fpl_lattice *lattice, const double *x, double *lower,
                                        double *diag, double *upper);
 

@@ -59,7 +59,9 @@ FPL_API int fpl_sun_velocity(sunrealtype t, N_Vector y, N_Vector ydot, void *use
 FPL_API int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *user_data,
                         N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
 
-/* Upper and lower bandwidths needed by fpl_sun_jac for a band matrix. */
+/* Upper and lower bandwidths needed by fpl_sun_jac for a band matrix. A periodic chain's
+ * Jacobian is not banded (x_0 and x_{N-1} are coupled): FPL_ERR_ARG, and fpl_sun_jac refuses a
+ * band matrix for it; use a dense one. */
 FPL_API int fpl_sun_band_widths(const fpl_lattice *lattice, int n_dev, sunindextype *upper,
                                 sunindextype *lower);
 

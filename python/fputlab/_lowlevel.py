@@ -24,7 +24,7 @@ from ._native import ffi, lib
 
 __all__ = [
     "VERSION", "DT", "RTOL", "ATOL", "MAX_STEPS", "CHAOS_DEFAULTS", "CHAOS_N_ACCUMULATORS",
-    "MODEL_CODES", "DISORDER_CODES", "EVENT_KINDS", "MAX_EVENTS", "EVENT", "ERR_NONFINITE", "ARG_ERRORS",
+    "MODEL_CODES", "BOUNDARY_CODES", "DISORDER_CODES", "EVENT_KINDS", "MAX_EVENTS", "EVENT", "ERR_NONFINITE", "ARG_ERRORS",
     "model_name", "method_names", "method_info", "orbit_class_name",
     "disorder_draw", "disorder_standard", "modes_omega",
     "integrator_options", "chaos_options", "chaos_result", "chaos_batch_options", "event_set",
@@ -67,7 +67,9 @@ del _io, _co
 CHAOS_N_ACCUMULATORS = int(lib.FPL_CHAOS_N_ACCUMULATORS)
 #: model names -> C codes (the paper's equations in fputlab.lattice.MODELS' comments)
 MODEL_CODES = {"homogeneous": lib.FPL_MODEL_HOMOGENEOUS, "hamiltonian": lib.FPL_MODEL_HAMILTONIAN,
-               "nonlinear": lib.FPL_MODEL_NONLINEAR}
+               "nonlinear": lib.FPL_MODEL_NONLINEAR, "toda": lib.FPL_MODEL_TODA}
+#: boundary-condition names -> C codes
+BOUNDARY_CODES = {"fixed": lib.FPL_BOUNDARY_FIXED, "periodic": lib.FPL_BOUNDARY_PERIODIC}
 #: disorder names -> C codes
 DISORDER_CODES = {"gaussian": lib.FPL_DISORDER_GAUSSIAN,
                   "truncated": lib.FPL_DISORDER_TRUNCATED_GAUSSIAN,
@@ -210,17 +212,25 @@ class _Handle:
 
 
 class LatticeHandle(_Handle):
-    """fpl_lattice: create from (N, alpha, beta, model code, v)."""
+    """fpl_lattice: create from (N, alpha, beta, model code, v, boundary code)."""
     _free, _ctype = lib.fpl_lattice_free, "fpl_lattice"
 
-    def __init__(self, N: int, alpha: float, beta: float, model: int, v: np.ndarray):
+    def __init__(self, N: int, alpha: float, beta: float, model: int, v: np.ndarray,
+                 boundary: int = lib.FPL_BOUNDARY_FIXED):
         out = ffi.new("fpl_lattice **")
-        check(lib.fpl_lattice_create(N, alpha, beta, model, ptr(v), out))
+        check(lib.fpl_lattice_create_ex(N, alpha, beta, model, ptr(v), boundary, out))
         self._own(out[0])
         self.N = N
+        self.boundary = int(lib.fpl_lattice_boundary(self.ptr))
 
     def errmsg(self) -> str:
         return _string(lib.fpl_lattice_errmsg(self.ptr))
+
+    def barrier(self) -> tuple[float, float]:
+        """fpl_lattice_barrier: (lower, upper), -inf / inf where there is none."""
+        lo, up = ffi.new("double *"), ffi.new("double *")
+        self.check(lib.fpl_lattice_barrier(self.ptr, lo, up))
+        return float(lo[0]), float(up[0])
 
     def check(self, status: int) -> int:
         """`fputlab._errors.check` with this handle's message."""

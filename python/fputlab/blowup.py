@@ -21,10 +21,13 @@ from .lattice import Lattice
 from .reduction import realisation_quadratics
 
 def default_criteria(lattice: Lattice) -> list[tuple]:
-    """The cubic potential's barrier: a bond stretched beyond 1/alpha has escaped (V'(s) = 0 at
-    s = -1/alpha); without alpha, ``|x_j| > 100``."""
-    if lattice.alpha > 0:
-        return [("stretch", 1.0 / lattice.alpha)]
+    """The bond potential's barrier: a bond stretched beyond its nearer top (`Lattice.barrier`,
+    the nearest non-zero root of V': 1/alpha for FPUT-alpha) has escaped; a potential without a
+    barrier (alpha^2 <= 4 beta, the Toda lattice) cannot blow up that way: ``|x_j| > 100``."""
+    lower, upper = lattice.barrier
+    stretch = min(-lower, upper)
+    if np.isfinite(stretch):
+        return [("stretch", stretch)]
     return [("displacement", 100.0)]
 
 
@@ -64,7 +67,7 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
     criteria : list of tuple, optional
         Stopping criteria such as ``[("stretch", 4.0)]``, ``("energy", E)``,
         ``("displacement", X)`` or ``("mode_energy", E)`` (default: a bond stretched beyond the
-        cubic barrier 1/alpha, `default_criteria`).
+        potential's barrier, 1/alpha for FPUT-alpha, `default_criteria`).
     progress : bool, optional
         A progress bar with ETA (tqdm.auto).
 

@@ -135,7 +135,8 @@ def lyapunov(lattice: Lattice, t_end: float, *, method: str = "yoshida4", dt: fl
         A progress bar with ETA (tqdm.auto; the same computation, in segments).
     blowup_stretch : float, optional
         A bond stretch above this at a renormalisation ends the run as a blow-up (default: the
-        cubic barrier 1/alpha; < 0 turns the check off).
+        potential's barrier `Lattice.barrier`, 1/alpha for FPUT-alpha, none for alpha^2 <= 4 beta
+        or Toda; < 0 turns the check off).
 
     Returns
     -------

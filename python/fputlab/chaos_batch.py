@@ -77,8 +77,8 @@ def lyapunov_batch(lattices, t_end: float, *, method: str = "yoshida4", dt: floa
         A progress bar with ETA (the same computation in 100 segments).
     blowup_stretch : float, optional
         As in `fputlab.chaos.lyapunov`: a bond stretch above this at a renormalisation ends the
-        orbit as a blow-up, before SALI is looked at. Default: 1/alpha (the barrier) for
-        alpha > 0; a negative value switches the check off.
+        orbit as a blow-up, before SALI is looked at. Default: the potential's barrier
+        (`Lattice.barrier`; 1/alpha for FPUT-alpha); a negative value switches the check off.
 
     Returns
     -------

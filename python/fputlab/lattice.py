@@ -15,8 +15,11 @@ MODELS = {
     "homogeneous": ll.MODEL_CODES["homogeneous"],   # Eqs. (Hamilt), (eqnmotions)
     "hamiltonian": ll.MODEL_CODES["hamiltonian"],   # Eqs. (dis1), (Hamilt2mod): v in both couplings
     "nonlinear": ll.MODEL_CODES["nonlinear"],       # Eq. (varnonlin): v in the nonlinear terms only
+    "toda": ll.MODEL_CODES["toda"],                 # V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2)
 }
 DISORDERS = dict(ll.DISORDER_CODES)
+#: boundary-condition names -> C codes ("fixed": walls at both ends; "periodic": a ring)
+BOUNDARIES = dict(ll.BOUNDARY_CODES)
 
 
 def _model_code(model) -> int:
@@ -26,13 +29,23 @@ def _model_code(model) -> int:
         return MODELS[model]
     if isinstance(model, (int, np.integer)) and not isinstance(model, bool):
         if int(model) not in MODELS.values():
-            raise ValueError(f"model {model} is unknown (1 homogeneous, 2 hamiltonian, 3 nonlinear)")
+            raise ValueError(f"model {model} is unknown (1 homogeneous, 2 hamiltonian, "
+                             "3 nonlinear, 4 toda)")
         return int(model)
-    raise TypeError(f"model must be a name or 1, 2, 3, got {type(model).__name__}")
+    raise TypeError(f"model must be a name or 1, 2, 3, 4, got {type(model).__name__}")
+
+
+def _boundary_code(boundary) -> int:
+    if not isinstance(boundary, str):
+        raise TypeError(f"boundary must be 'fixed' or 'periodic', got {type(boundary).__name__}")
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"boundary {boundary!r} is unknown (known: {', '.join(BOUNDARIES)})")
+    return BOUNDARIES[boundary]
 
 
 #: parameters a Lattice is built from: fixed once built (the C lattice holds copies)
-_PARAMETERS = frozenset({"N", "alpha", "beta", "model", "model_code", "tau", "seed", "disorder"})
+_PARAMETERS = frozenset({"N", "alpha", "beta", "model", "model_code", "tau", "seed", "disorder",
+                         "boundary"})
 
 #: bytes of memory per site of a lattice (C arrays, modes, Python copies), for the estimate
 _BYTES_PER_SITE = 8 * 24
@@ -65,10 +78,11 @@ class Lattice:
         Number of particles (>= 2).
     alpha : float, optional
         Cubic coupling α (the paper's value is 0.25).
-    model : {"homogeneous", "hamiltonian", "nonlinear"} or {1, 2, 3}, optional
+    model : {"homogeneous", "hamiltonian", "nonlinear", "toda"} or {1, 2, 3, 4}, optional
         "homogeneous" (1; Eqs. Hamilt/eqnmotions); "hamiltonian" (2; v in the linear and
         nonlinear couplings, masses v; Eqs. dis1/Hamilt2mod); "nonlinear" (3; v in the
-        nonlinear terms only, not Hamiltonian; Eq. varnonlin).
+        nonlinear terms only, not Hamiltonian; Eq. varnonlin); "toda" (4; the integrable Toda
+        chain V(r) = (e^{2αr} - 1 - 2αr)/(4α²), homogeneous, β must be 0).
     beta : float, optional
         Quartic coupling β (FPUT-αβ; 0 in the paper).
     tau : float, optional
@@ -80,6 +94,9 @@ class Lattice:
         Distribution of z (see `draw_disorder`).
     v : array_like, optional
         The variability v_j itself (length N), instead of `tau` and `seed`.
+    boundary : {"fixed", "periodic"}, optional
+        "fixed": walls x_0 = x_{N+1} = 0 (N + 1 bonds, the paper); "periodic": a ring of N
+        particles and N bonds (x_N = x_0), normal modes are Fourier modes (docs/conventions.md).
 
     Raises
     ------
@@ -89,12 +106,14 @@ class Lattice:
 
     def __init__(self, N: int = 64, alpha: float = 0.25, model="homogeneous", *,
                  beta: float = 0.0, tau: float = 0.0, seed: int | None = None,
-                 disorder: str = "gaussian", v=None):
+                 disorder: str = "gaussian", v=None, boundary: str = "fixed"):
         self.N = _int(N, "N")
         self.alpha = _real(alpha, "alpha")
         self.beta = _real(beta, "beta")
         self.model_code = _model_code(model)
         self.model = ll.model_name(self.model_code)
+        boundary_code = _boundary_code(boundary)
+        self.boundary = boundary
         self.tau = _real(tau, "tau")
         if not isinstance(disorder, str):
             raise TypeError(f"disorder must be a string, got {type(disorder).__name__}")
@@ -110,8 +129,8 @@ class Lattice:
             self.seed = None
             v_arr = as_float_array(v, "v", (self.N,))
         elif self.tau != 0.0 or seed is not None:
-            if self.model_code == MODELS["homogeneous"] and self.tau != 0.0:
-                raise ValueError("tau: the homogeneous model has no disorder; "
+            if self.model_code in (MODELS["homogeneous"], MODELS["toda"]) and self.tau != 0.0:
+                raise ValueError(f"tau: the {self.model} model has no disorder; "
                                  "use model='hamiltonian' or 'nonlinear'")
             self.seed = (int.from_bytes(os.urandom(4), "little") if seed is None
                          else _int(seed, "seed", C_U64))
@@ -119,7 +138,8 @@ class Lattice:
         else:
             self.seed = None
             v_arr = np.ones(self.N)
-        self._h = ll.LatticeHandle(self.N, self.alpha, self.beta, self.model_code, v_arr)
+        self._h = ll.LatticeHandle(self.N, self.alpha, self.beta, self.model_code, v_arr,
+                                   boundary_code)
         self._built = True
 
     def __setattr__(self, name, value):
@@ -140,14 +160,22 @@ class Lattice:
         return self._h.get_v()
 
     @property
+    def barrier(self) -> tuple[float, float]:
+        """(lower, upper): the tops of the bond potential's barrier on either side of r = 0, the
+        nearest non-zero roots of V'(r); -inf / inf where there is none (C: fpl_lattice_barrier).
+        FPUT-α: (-1/α, inf) for α > 0; α² <= 4β: none; Toda: none."""
+        return self._h.barrier()
+
+    @property
     def omega(self) -> np.ndarray:
         """Normal-mode frequencies omega_k = 2 sin(k pi / (2(N+1))), k = 1..N."""
         return _omega(self.N)
 
     def __repr__(self) -> str:
         dis = f", tau={self.tau:g}, seed={self.seed}" if self.seed is not None else ""
+        bnd = f", boundary={self.boundary!r}" if self.boundary != "fixed" else ""
         return (f"Lattice(N={self.N}, alpha={self.alpha:g}, model={self.model!r}"
-                f"{', beta=%g' % self.beta if self.beta else ''}{dis})")
+                f"{', beta=%g' % self.beta if self.beta else ''}{dis}{bnd})")
 
     # -- helpers ------------------------------------------------------------------------------
     def _state(self, y, name="y"):
@@ -168,8 +196,15 @@ class Lattice:
         return self._h.force(x)
 
     def force_jacobian(self, x, dense: bool = False):
-        """dF/dx at x: (lower, diag, upper) of the tridiagonal, or the dense N x N matrix."""
+        """dF/dx at x: (lower, diag, upper) of the tridiagonal, or the dense N x N matrix (the
+        only form for a periodic chain, whose wrap-around bond couples x_0 and x_{N-1})."""
         x = as_float_array(x, "x", (self.N,))
+        if self.boundary == "periodic":
+            if not dense:
+                raise ValueError("dense: the force Jacobian of a periodic chain is not "
+                                 "tridiagonal; use force_jacobian(x, dense=True)")
+            y = np.concatenate([x, np.zeros(self.N)])
+            return self._h.jacobian_dense(y, 0)[self.N:, :self.N].copy()
         lo, di, up = self._h.force_jacobian(x)
         lo, up = lo[:-1].copy(), up[:-1].copy()
         if not dense:
@@ -246,11 +281,11 @@ class Lattice:
     def __reduce__(self):
         # Picklable for process pools: rebuilt from its parameters (v passed explicitly).
         return (_rebuild, (self.N, self.alpha, self.model, self.beta, self.v, self.tau, self.seed,
-                           self.disorder))
+                           self.disorder, self.boundary))
 
 
-def _rebuild(N, alpha, model, beta, v, tau, seed, disorder):
-    lat = Lattice(N, alpha, model, beta=beta, v=v)
+def _rebuild(N, alpha, model, beta, v, tau, seed, disorder, boundary="fixed"):
+    lat = Lattice(N, alpha, model, beta=beta, v=v, boundary=boundary)
     for name, value in (("tau", tau), ("seed", seed), ("disorder", disorder)):
         object.__setattr__(lat, name, value)
     return lat

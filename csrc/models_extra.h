@@ -1,0 +1,44 @@
+/* Private: the kernels of the periodic chains (models_periodic.c), the Toda lattice
+ * (model_toda.c) and the generic kernels for any model and boundary (models_any.c), for the
+ * model tables of models.c and models_periodic.c. Not installed. */
+#ifndef FPUTLAB_MODELS_EXTRA_H
+#define FPUTLAB_MODELS_EXTRA_H
+
+#include <math.h>
+#include "internal.h"
+
+/* The Toda bond: V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2), V'(r) = expm1(2 alpha r)/(2
+ * alpha), V''(r) = e^{2 alpha r}. expm1 keeps V' accurate to round-off at small stretches (where
+ * e^u - 1 would lose the digits the harmonic limit lives on). */
+static inline double fpl_toda_force(double r, double alpha, double inv_2alpha)
+{
+    return expm1(2.0 * alpha * r) * inv_2alpha;
+}
+
+/* V(r), with its Taylor series for |2 alpha r| < 0.1, where expm1(u) - u cancels. */
+double fpl_toda_bond_energy(double r, double alpha);
+
+/* models_any.c: generic (non-hot) kernels for every model and boundary: the fixed or periodic
+ * bond stretches, the polynomial or Toda bond force. */
+void fpl_any_force(const fpl_lattice *lat, fpl_work *work, const double *x, double *f);
+void fpl_any_tangent(const fpl_lattice *lat, fpl_work *work, const double *x, int n_dev,
+                     const double *dx, double *df);
+void fpl_any_jacobian_entries(const fpl_lattice *lat, const double *y, int n_dev,
+                              void (*emit)(void *ctx, long row, long col, double value),
+                              void *ctx);
+/* The Hamiltonian (bond potential in the stretches R of cn; models 1, 2, Toda) and the energy of
+ * Eq. (Hamilt) of model 3 (stretches of cl = the plain stretches). */
+double fpl_any_energy_hamiltonian(const fpl_lattice *lat, const double *y);
+double fpl_any_energy_plain(const fpl_lattice *lat, const double *y);
+
+/* models_periodic.c: the drifts (shared with the Toda entries) and the periodic model table. */
+void fpl_drift_unit_mass(void *ctx, double *y, int stage, double h);
+void fpl_drift_masses(void *ctx, double *y, int stage, double h);
+const fpl_model_ops *fpl_model_ops_periodic(int model);
+
+/* model_toda.c: coefficients (all 1) and the kicks, p += h F(x), dp += h J(x) dx. */
+void fpl_toda_coefficients(double v, double *cl, double *cn, double *s, double *minv);
+void fpl_toda_kick_fixed(void *ctx, double *y, double h);
+void fpl_toda_kick_periodic(void *ctx, double *y, double h);
+
+#endif
