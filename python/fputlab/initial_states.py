@@ -331,7 +331,9 @@ def thermal(lattice, *, temperature, seed, size=None, burn_in: int = 100, thin: 
         raise ValueError("burn_in must be >= 0 and thin >= 1")
     rng = _generator(seed)
     N = lattice.N
-    K = -np.asarray(lattice.force_jacobian(np.zeros(N), dense=True))
+    # stiffness K = -dF/dx(0), from the first-order system's dense Jacobian (every model and
+    # boundary has it): its lower-left block is dF/dx
+    K = -lattice.jacobian(np.zeros(2 * N))[N:, :N]
     K = 0.5 * (K + K.T)
     lam, U = np.linalg.eigh(K)
     keep = lam > 1e-10 * lam.max()          # drops the periodic translation mode
