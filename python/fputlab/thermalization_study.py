@@ -141,26 +141,32 @@ def check_spec(spec: ThermalizationSpec) -> ThermalizationSpec:
 
 #: the built-in studies; "tiny" is for the tests (seconds)
 STUDIES = {
-    "alpha": ThermalizationSpec(),
+    # alpha-FPUT, eps = alpha sqrt(E/N): 0.06-0.11 spans ~2 decades of T_eq; above ~0.12 the
+    # thermal state crosses the barrier r = -1/alpha within T_eq (orbits blow up)
+    "alpha": ThermalizationSpec(eps=(0.11, 0.1, 0.09, 0.08, 0.07, 0.06)),
+    # beta-FPUT, eps = beta E/N: both sides of the Chirikov overlap; dt = 0.2 keeps |dE/E| <
+    # 1e-6 at eps = 1
     "beta": ThermalizationSpec(label="beta", alpha=0.0, beta=1.0, eps_kind="beta",
-                               eps=(0.3, 0.2, 0.14, 0.1, 0.07), t_max=1.6e7),
-    "toda": ThermalizationSpec(label="toda", model="toda", eps=(0.2, 0.15), t_max=3.2e6),
-    "disorder-nonlinear-5": ThermalizationSpec(label="disorder-nonlinear-5", model="nonlinear",
-                                               tau=5.0, eps=(0.2, 0.17, 0.15)),
-    "disorder-nonlinear-10": ThermalizationSpec(label="disorder-nonlinear-10",
-                                                model="nonlinear", tau=10.0,
-                                                eps=(0.2, 0.17, 0.15)),
-    "disorder-hamiltonian-5": ThermalizationSpec(label="disorder-hamiltonian-5",
-                                                 model="hamiltonian", tau=5.0,
-                                                 eps=(0.2, 0.17, 0.15)),
-    "disorder-hamiltonian-10": ThermalizationSpec(label="disorder-hamiltonian-10",
-                                                  model="hamiltonian", tau=10.0,
-                                                  eps=(0.2, 0.17, 0.15)),
+                               eps=(1.0, 0.5, 0.3, 0.2, 0.1, 0.07, 0.05, 0.03, 0.02),
+                               dt=0.2, t_first=100.0),
+    # the integrable control at the alpha study's eps, run ~5x past the alpha T_eq there
+    "toda": ThermalizationSpec(label="toda", model="toda", eps=(0.1, 0.08), t_max=1.6e6),
     "tiny": ThermalizationSpec(label="tiny", boundary="fixed", N=8, alpha=1.0,
                                eps=(0.2, 0.15), band=(1,), orbits=4, dt=0.2, t_first=50.0,
                                t_max=800.0, samples_per_segment=4, sub_samples=4,
                                threshold=0.3, n_boot=50),
 }
+
+
+def _disorder_study(model: str, tau: float) -> tuple[str, ThermalizationSpec]:
+    """Models 2 and 3 (one disorder draw per orbit) at the alpha study's two largest-but-safe
+    eps, for a T_eq to set beside the homogeneous chain's."""
+    label = f"disorder-{model}-{tau:g}"
+    return label, ThermalizationSpec(label=label, model=model, tau=tau, eps=(0.1, 0.08),
+                                     t_max=3.2e6)
+
+
+STUDIES.update(_disorder_study(m, t) for m in ("nonlinear", "hamiltonian") for t in (5.0, 10.0))
 
 
 # -- one task: pure ----------------------------------------------------------------------------
