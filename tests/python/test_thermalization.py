@@ -118,3 +118,13 @@ def test_fit_power_law_recovers_a_synthetic_exponent():
     assert lo < 8.0 < hi
     with pytest.raises(ValueError, match="at least 2"):
         th.fit_power_law([0.1, 0.2], [np.nan, 1.0])
+
+
+def test_consistent_with_the_analysis_module(rng):
+    # fputlab.analysis uses the Shannon entropy S_Sh and exp(S_Sh) modes: S = M (ln M - S_Sh)
+    from fputlab import analysis
+    e = rng.exponential(size=(7, 12))
+    np.testing.assert_allclose(th.information_entropy(e),
+                               12 * (math.log(12) - analysis.spectral_entropy(e)), rtol=1e-12)
+    np.testing.assert_allclose(12 * th.effective_modes(e), analysis.effective_modes(e),
+                               rtol=1e-12)
