@@ -455,11 +455,27 @@ class ThermalizationStudy:
 
     def _write_summary(self) -> None:
         res = self.results()
-        plain = {"spec": res["spec"], "fit": res["fit"],
-                 "points": [{k: v for k, v in r.items() if k not in ("boot", "t", "eta")}
+        # everything the table and the figure need (`load_summary` reads it back), without
+        # the bootstrap replicates
+        plain = {"format": _FORMAT, "spec": res["spec"], "fit": res["fit"],
+                 "points": [{k: v for k, v in r.items() if k != "boot"}
                             for r in res["points"]]}
         _atomic_text(self.work / "summary.json",
                      json.dumps(plain, indent=1, default=_json_default, allow_nan=True))
+
+
+def load_summary(path) -> dict:
+    """A study's ``summary.json`` (written after every segment) as `ThermalizationStudy.results`
+    gives it, without the bootstrap replicates: enough for the table and the figure."""
+    d = json.loads(Path(path).read_text())
+    if d.get("format") != _FORMAT:
+        raise ValueError(f"{path}: not a fputlab thermalization study summary")
+    for r in d["points"]:
+        r["interval"] = tuple(r["interval"])
+        for k in ("t", "eta"):
+            if k in r:
+                r[k] = np.asarray(r[k], dtype=float)
+    return d
 
 
 def _json_default(o):

@@ -11,8 +11,8 @@ from scipy.integrate import solve_ivp
 from fputlab import initial_states as ist
 from fputlab.cli import main
 from fputlab.modes import mode_matrix
-from fputlab.thermalization_study import (STUDIES, ThermalizationSpec, ThermalizationStudy,
-                                          check_spec, run_segment)
+from fputlab.thermalization_study import (STUDIES, ThermalizationStudy, check_spec,
+                                          load_summary, run_segment)
 
 TINY = STUDIES["tiny"]
 
@@ -50,7 +50,7 @@ def test_interrupted_study_continues_bit_for_bit(tmp_path):
     whole = ThermalizationStudy(tmp_path / "whole", TINY)
     assert whole.run() is True
     piece = ThermalizationStudy(tmp_path / "piece", TINY)
-    assert piece.run(t_until=100.0) is False
+    assert piece.run(t_until=50.0) is False
     # a task in flight when the run was killed leaves only a temporary file behind
     (tmp_path / "piece" / "p00" / ".o0000_s02.npz.123.tmp").write_bytes(b"half")
     again = ThermalizationStudy(tmp_path / "piece")          # spec read from study.json
@@ -60,7 +60,12 @@ def test_interrupted_study_continues_bit_for_bit(tmp_path):
         np.testing.assert_array_equal(pa["eta"], pb["eta"])
         assert pa["t_eq"] == pb["t_eq"]
     assert a["fit"]["exponent"] == b["fit"]["exponent"]
-    assert (tmp_path / "piece" / "summary.json").exists()
+    summary = load_summary(tmp_path / "piece" / "summary.json")
+    for pa, ps in zip(a["points"], summary["points"]):
+        np.testing.assert_array_equal(pa["eta"], ps["eta"])
+        assert pa["t_eq"] == ps["t_eq"] and pa["interval"] == ps["interval"]
+    assert summary["fit"]["exponent"] == a["fit"]["exponent"]
+    assert tuple(summary["fit"]["interval"]) == a["fit"]["interval"]
 
 
 def test_study_directory_holds_one_study(tmp_path):
