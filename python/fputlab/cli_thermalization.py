@@ -63,6 +63,7 @@ def cmd_thermalization(a) -> int:
     complete = None
     if not a.report_only:
         complete = study.run(t_until=a.t_until, max_seconds=a.max_seconds, workers=a.workers)
+    study.write_summary()
     res = study.results()
     sp = res["spec"]
     print(f"# {sp['label']}: model {sp['model']}, {sp['boundary']} N = {sp['N']}, "

@@ -65,9 +65,13 @@ def thermalization_figure(results: list, path: str, *, title: str | None = None)
                 xm = math.exp(np.log(eps[ok]).mean())
                 ym = math.exp(np.log(teq[ok]).mean())
                 ax.plot(xs, ym * (xs / xm) ** -ap, "--", color="0.4", label=text)
-        for p in pts:
-            if "eta" in p:
-                ax2.semilogx(p["t"][1:], p["eta"][1:], color=c, alpha=0.8, lw=1)
+        shades = plt.get_cmap("viridis")(np.linspace(0, 0.85, max(len(pts), 1)))
+        for j, p in enumerate(pts):
+            if "eta" in p and len(p["eta"]) > 1:
+                # one study: a colour per eps, labelled; several: a colour per study
+                col = shades[j] if len(results) == 1 else c
+                lab = f"$\\varepsilon$ = {p['eps']:g}" if len(results) == 1 else None
+                ax2.semilogx(p["t"][1:], p["eta"][1:], color=col, alpha=0.9, lw=1, label=lab)
         if pts:
             ax2.axhline(spec["threshold"], color="k", lw=0.8, ls=":")
     ax.set_xscale("log")
@@ -78,6 +82,8 @@ def thermalization_figure(results: list, path: str, *, title: str | None = None)
     ax2.set_xlabel("t")
     ax2.set_ylabel("ensemble $\\eta(t)$")
     ax2.set_ylim(0, 1.05)
+    if len(results) == 1:
+        ax2.legend(fontsize=7)
     if title:
         fig.suptitle(title)
     fig.tight_layout()

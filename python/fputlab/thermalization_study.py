@@ -418,8 +418,8 @@ class ThermalizationStudy:
                             raise err
                         if progress:
                             progress(p, call[3], s)
-                self._write_summary()
-        self._write_summary()
+                self.write_summary()
+        self.write_summary()
         return all(self._point_finished(p) for p in range(len(spec.eps)))
 
     # -- results -----------------------------------------------------------------------------
@@ -453,7 +453,8 @@ class ThermalizationStudy:
                                 boot if spec.n_boot else None)
         return {"spec": asdict(spec), "points": points, "fit": fit}
 
-    def _write_summary(self) -> None:
+    def write_summary(self) -> None:
+        """(Re)write ``work_dir/summary.json`` from the task files (`load_summary` reads it)."""
         res = self.results()
         # everything the table and the figure need (`load_summary` reads it back), without
         # the bootstrap replicates

@@ -106,3 +106,20 @@ def test_cli_runs_reports_and_refuses(tmp_path, capsys):
     assert main(["thermalization", "tiny", "--work-dir", str(tmp_path / "x"),
                  "--t-until", "-1"]) == 2
     assert "--t-until" in capsys.readouterr().err
+
+
+def test_example_draws_from_summaries(tmp_path):
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+    study = ThermalizationStudy(tmp_path / "w", TINY)
+    study.run()
+    shutil.copy(tmp_path / "w" / "summary.json", tmp_path / "tiny.json")
+    script = Path(__file__).resolve().parents[2] / "examples" / "thermalization_teq.py"
+    out = subprocess.run([sys.executable, str(script), "--summaries", str(tmp_path), "--studies",
+                          "tiny", "--out", str(tmp_path / "t.png")], capture_output=True,
+                         text=True, check=True, timeout=120).stdout
+    fit = study.results()["fit"]
+    assert f"tiny: T_eq ~ eps^-{fit['exponent']:.2f}" in out
+    assert (tmp_path / "t.png").stat().st_size > 10_000
