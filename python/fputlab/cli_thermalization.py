@@ -15,13 +15,15 @@ def add_parser(sub, formatter_class) -> None:
         description="Runs a built-in thermalization study in WORK_DIR (one file per orbit "
         "and segment; rerun to continue) and prints T_eq for every eps with its bootstrap "
         "interval and the fitted exponent. See docs/thermalization.md.")
-    s.add_argument("study", choices=sorted(STUDIES), help="the built-in study")
+    s.add_argument("study", choices=sorted(STUDIES), help="the built-in study (required, no default)")
     s.add_argument("--work-dir", required=True, metavar="DIR",
-                   help="study directory (created; continued when it holds the same study)")
-    s.add_argument("--eps", type=float, nargs="+", help="override the study's eps values")
-    s.add_argument("--orbits", type=int, help="override the ensemble size")
-    s.add_argument("--N", type=int, help="override the number of particles")
-    s.add_argument("--t-max", type=float, help="override the study's longest time")
+                   help="study directory (created; continued when it holds the same study; "
+                   "required, no default)")
+    s.add_argument("--eps", type=float, nargs="+", help="eps values (default: the study's)")
+    s.add_argument("--orbits", type=int, help="orbits in the ensemble (default: the study's)")
+    s.add_argument("--N", type=int, help="number of particles (default: the study's)")
+    s.add_argument("--t-end", type=float, help="longest time t_max of every point (default: the "
+                   "study's)")
     s.add_argument("--t-until", type=float, help="stop this piece once every point reached "
                    "this time (default: t_max)")
     s.add_argument("--max-seconds", type=float, help="stop this piece after about this much "
@@ -37,7 +39,9 @@ def add_parser(sub, formatter_class) -> None:
 def _spec(a):
     from .thermalization_study import STUDIES, check_spec
     spec = STUDIES[a.study]
-    over = {k: getattr(a, k) for k in ("orbits", "N", "t_max") if getattr(a, k) is not None}
+    over = {k: getattr(a, k) for k in ("orbits", "N") if getattr(a, k) is not None}
+    if a.t_end is not None:
+        over["t_max"] = a.t_end
     if a.eps is not None:
         over["eps"] = tuple(a.eps)
     return check_spec(replace(spec, **over))
