@@ -185,7 +185,8 @@ def equipartition_time(t, energies, *, threshold: float = 0.1, entropy: str = "i
     if n_boot and np.isfinite(boot).mean() >= level:
         # resamples that never cross count as +inf: an upper bound then stays honest
         b = np.where(np.isfinite(boot), boot, np.inf)
-        lo, hi = np.quantile(b, [(1 - level) / 2, (1 + level) / 2])
+        # an observed value as each quantile (no interpolation towards +inf)
+        lo, hi = np.quantile(b, [(1 - level) / 2, (1 + level) / 2], method="inverted_cdf")
         lo, hi = float(lo), float(hi)
     return {"t_eq": t_eq, "interval": (lo, hi), "boot": boot, "eta": eta_t,
             "threshold": threshold, "orbits": R}

@@ -143,7 +143,7 @@ def check_spec(spec: ThermalizationSpec) -> ThermalizationSpec:
 STUDIES = {
     # alpha-FPUT, eps = alpha sqrt(E/N): 0.06-0.11 spans ~2 decades of T_eq; above ~0.12 the
     # thermal state crosses the barrier r = -1/alpha within T_eq (orbits blow up)
-    "alpha": ThermalizationSpec(eps=(0.11, 0.1, 0.09, 0.08, 0.07, 0.06)),
+    "alpha": ThermalizationSpec(eps=(0.11, 0.1, 0.09, 0.08, 0.07, 0.06, 0.05)),
     # beta-FPUT, eps = beta E/N: both sides of the Chirikov overlap; dt = 0.2 keeps |dE/E| <
     # 1e-6 at eps = 1
     "beta": ThermalizationSpec(label="beta", alpha=0.0, beta=1.0, eps_kind="beta",
@@ -314,8 +314,16 @@ class ThermalizationStudy:
         if stored.exists():
             old = spec_from_json(stored.read_text())
             if spec is not None and check_spec(spec).to_json() != old.to_json():
-                raise ValueError(f"work_dir: {self.work} holds a different study; "
-                                 "use a new directory")
+                new = check_spec(spec)
+                # more eps after the stored ones: the stored points (and their orbits' seeds,
+                # which depend on the point's index) are kept, the new ones added
+                if (replace(new, eps=old.eps).to_json() == old.to_json()
+                        and new.eps[:len(old.eps)] == old.eps):
+                    _atomic_text(stored, new.to_json())
+                    old = new
+                else:
+                    raise ValueError(f"work_dir: {self.work} holds a different study; use a "
+                                     "new directory (only more eps may be added to a study)")
             self.spec = old
         else:
             if spec is None:

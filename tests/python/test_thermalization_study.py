@@ -72,6 +72,12 @@ def test_study_directory_holds_one_study(tmp_path):
     ThermalizationStudy(tmp_path / "s", TINY)
     with pytest.raises(ValueError, match="different study"):
         ThermalizationStudy(tmp_path / "s", replace(TINY, orbits=5))
+    # more eps may be added: the stored points keep their index (and orbits)
+    grown = ThermalizationStudy(tmp_path / "s", replace(TINY, eps=TINY.eps + (0.1,)))
+    assert grown.spec.eps == TINY.eps + (0.1,)
+    assert ThermalizationStudy(tmp_path / "s").spec.eps == TINY.eps + (0.1,)
+    with pytest.raises(ValueError, match="different study"):
+        ThermalizationStudy(tmp_path / "s", replace(TINY, eps=(0.1,) + TINY.eps))
     (tmp_path / "other").mkdir()
     (tmp_path / "other" / "x.txt").write_text("mine")
     with pytest.raises(ValueError, match="not a study directory"):
