@@ -28,6 +28,9 @@ def add_parser(sub, formatter_class) -> None:
                    "this time (default: t_max)")
     s.add_argument("--max-seconds", type=float, help="stop this piece after about this much "
                    "wall time (default: none)")
+    s.add_argument("--fit-range", type=float, nargs=2, action="append", metavar=("LO", "HI"),
+                   help="also fit T_eq ~ eps^-a over LO <= eps <= HI; repeatable (default: the "
+                   "study's ranges, beta: 0-0.07 and 0.1-0.5)")
     s.add_argument("--workers", type=int, default=1, help="local worker processes")
     s.add_argument("--figure", metavar="PNG", help="write the T_eq(eps) figure to this file")
     s.add_argument("--overwrite", action="store_true", help="allow --figure to replace a file")
@@ -68,7 +71,7 @@ def cmd_thermalization(a) -> int:
     if not a.report_only:
         complete = study.run(t_until=a.t_until, max_seconds=a.max_seconds, workers=a.workers)
     study.write_summary()
-    res = study.results()
+    res = study.results(fit_ranges=a.fit_range)
     sp = res["spec"]
     print(f"# {sp['label']}: model {sp['model']}, {sp['boundary']} N = {sp['N']}, "
           f"alpha = {sp['alpha']:g}, beta = {sp['beta']:g}, tau = {sp['tau']:g} %, band "
@@ -91,6 +94,10 @@ def cmd_thermalization(a) -> int:
               f"[{_fmt(lo)}, {_fmt(hi)}] over {fit['points']} points")
     print("(lost: orbits that crossed the alpha barrier and left the ensemble; |dE/E|: the "
           "largest relative energy error of the kept orbits)")
+    for f in res["range_fits"]:
+        lo, hi = f["interval"]
+        print(f"fit over {f['range'][0]:g} <= eps <= {f['range'][1]:g}: a = {f['exponent']:.3f}, "
+              f"90% interval [{_fmt(lo)}, {_fmt(hi)}] over {f['points']} points")
     if complete is False:
         print("(stopped early: rerun the same command to continue)")
     if a.figure:

@@ -60,6 +60,17 @@ def thermalization_figure(results: list, path: str, *, title: str | None = None)
             ax.plot(xs, fit["prefactor"] * xs ** -a, "-", color=c,
                     label=f"fit: $T_{{eq}} \\propto \\varepsilon^{{-{a:.2f}}}$ {ival}")
             numbers[label] = fit
+        for k, rf in enumerate(res.get("range_fits", [])):
+            sel = ok & (eps >= rf["range"][0]) & (eps <= rf["range"][1])
+            if sel.sum() < 2:
+                continue
+            xs = np.geomspace(eps[sel].min(), eps[sel].max(), 10)
+            a, (alo, ahi) = rf["exponent"], rf["interval"]
+            ival = "" if not math.isfinite(alo) else f" [{alo:.1f}, {ahi:.1f}]"
+            ax.plot(xs, rf["prefactor"] * xs ** -a, ":" if k % 2 else "-.", color=c, lw=2,
+                    label=f"fit over {rf['range'][0]:g}-{rf['range'][1]:g}: "
+                          f"$\\varepsilon^{{-{a:.2f}}}$ {ival}")
+            numbers[f"{label} {rf['range'][0]:g}-{rf['range'][1]:g}"] = rf
             if label in PUBLISHED:
                 ap, text = PUBLISHED[label]
                 xm = math.exp(np.log(eps[ok]).mean())

@@ -147,7 +147,7 @@ STUDIES = {
     # beta-FPUT, eps = beta E/N: both sides of the Chirikov overlap; dt = 0.2 keeps |dE/E| <
     # 1e-6 at eps = 1
     "beta": ThermalizationSpec(label="beta", alpha=0.0, beta=1.0, eps_kind="beta",
-                               eps=(1.0, 0.5, 0.3, 0.2, 0.1, 0.07, 0.05, 0.03, 0.02),
+                               eps=(1.0, 0.5, 0.3, 0.2, 0.1, 0.07, 0.05, 0.03, 0.02, 0.015),
                                dt=0.2, t_first=100.0),
     # the integrable control at the alpha study's eps, run ~5x past the alpha T_eq there
     "toda": ThermalizationSpec(label="toda", model="toda", eps=(0.1, 0.08), t_max=1.6e6),
@@ -167,6 +167,11 @@ def _disorder_study(model: str, tau: float) -> tuple[str, ThermalizationSpec]:
 
 
 STUDIES.update(_disorder_study(m, t) for m in ("nonlinear", "hamiltonian") for t in (5.0, 10.0))
+
+
+#: eps ranges fitted on their own as well (the beta study's double scaling: its two sides of
+#: the Chirikov overlap, located from the local slopes of T_eq; docs/thermalization.md)
+FIT_RANGES = {"beta": ((0.0, 0.07), (0.1, 0.5))}
 
 
 # -- one task: pure ----------------------------------------------------------------------------
@@ -431,9 +436,11 @@ class ThermalizationStudy:
         return all(self._point_finished(p) for p in range(len(spec.eps)))
 
     # -- results -----------------------------------------------------------------------------
-    def results(self) -> dict:
+    def results(self, fit_ranges=None) -> dict:
         """Per point: eps, E, T_eq with its bootstrap interval, eta(t), the energy error and
-        the compute; and the power-law fit over the points that crossed."""
+        the compute; the power-law fit over the points that crossed (``fit``) and one per eps
+        range (``range_fits``; `fit_ranges` [(lo, hi), ...], default `FIT_RANGES` of the
+        study's label)."""
         spec = self.spec
         points = []
         for p, eps in enumerate(spec.eps):
@@ -453,13 +460,22 @@ class ThermalizationStudy:
                            failed=d["failed"],
                            finished=self._point_finished(p))
             points.append(row)
-        crossed = [r for r in points if np.isfinite(r["t_eq"])]
-        fit = None
-        if len(crossed) >= 2:
-            boot = np.array([r["boot"] for r in crossed])
-            fit = fit_power_law([r["eps"] for r in crossed], [r["t_eq"] for r in crossed],
-                                boot if spec.n_boot else None)
-        return {"spec": asdict(spec), "points": points, "fit": fit}
+        def fit_of(rows):
+            rows = [r for r in rows if np.isfinite(r["t_eq"])]
+            if len(rows) < 2:
+                return None
+            boot = np.array([r["boot"] for r in rows])
+            return fit_power_law([r["eps"] for r in rows], [r["t_eq"] for r in rows],
+                                 boot if spec.n_boot else None)
+
+        ranges = FIT_RANGES.get(spec.label, ()) if fit_ranges is None else fit_ranges
+        range_fits = []
+        for lo, hi in ranges:
+            f = fit_of([r for r in points if lo <= r["eps"] <= hi])
+            if f is not None:
+                range_fits.append({"range": (float(lo), float(hi)), **f})
+        return {"spec": asdict(spec), "points": points, "fit": fit_of(points),
+                "range_fits": range_fits}
 
     def write_summary(self) -> None:
         """(Re)write ``work_dir/summary.json`` from the task files (`load_summary` reads it)."""
@@ -467,6 +483,7 @@ class ThermalizationStudy:
         # everything the table and the figure need (`load_summary` reads it back), without
         # the bootstrap replicates
         plain = {"format": _FORMAT, "spec": res["spec"], "fit": res["fit"],
+                 "range_fits": res["range_fits"],
                  "points": [{k: v for k, v in r.items() if k != "boot"}
                             for r in res["points"]]}
         _atomic_text(self.work / "summary.json",

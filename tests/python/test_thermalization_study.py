@@ -60,6 +60,9 @@ def test_interrupted_study_continues_bit_for_bit(tmp_path):
         np.testing.assert_array_equal(pa["eta"], pb["eta"])
         assert pa["t_eq"] == pb["t_eq"]
     assert a["fit"]["exponent"] == b["fit"]["exponent"]
+    ranged = again.results(fit_ranges=[(0.0, 1.0), (0.18, 1.0)])
+    assert ranged["range_fits"][0]["exponent"] == b["fit"]["exponent"]
+    assert len(ranged["range_fits"]) == 1            # one point in (0.18, 1): no fit
     summary = load_summary(tmp_path / "piece" / "summary.json")
     for pa, ps in zip(a["points"], summary["points"]):
         np.testing.assert_array_equal(pa["eta"], ps["eta"])
