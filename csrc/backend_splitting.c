@@ -98,10 +98,9 @@ static int locate_event(fpl_integrator *h, const double *start, double dt, doubl
     return FPL_EVENT;
 }
 
-/* Criteria are evaluated every EVENT_BLOCK steps (their cost is O(N), like a force); a block in
- * which one fired is replayed step by step from its start to find the step, then refined inside
- * it. A criterion that crosses and uncrosses within one block (EVENT_BLOCK dt) is not seen. */
-#define EVENT_BLOCK 16
+/* Criteria are evaluated every FPL_EVENT_BLOCK steps (internal.h); a block in which one fired
+ * is replayed step by step from its start to find the step, then refined inside it. A criterion
+ * that crosses and uncrosses within one block (FPL_EVENT_BLOCK dt) is not seen. */
 
 static int split_advance_events(fpl_integrator *h, long n_target, double *work)
 {
@@ -118,7 +117,7 @@ static int split_advance_events(fpl_integrator *h, long n_target, double *work)
     }
     while (h->n_steps < n_target) {
         long block = n_target - h->n_steps;
-        if (block > EVENT_BLOCK) block = EVENT_BLOCK;
+        if (block > FPL_EVENT_BLOCK) block = FPL_EVENT_BLOCK;
         memcpy(start, h->y, sizeof(double) * (size_t)h->dim);
         fpl_split_steps(s, &run->sys, h->y, dt, block);
         double g_new = event_min(h, h->y, &which);

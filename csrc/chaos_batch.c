@@ -19,9 +19,9 @@
 #include <gsl/gsl_rng.h>
 #include "fputlab/chaos_batch.h"
 #include "internal.h"
+#include "model_terms.h"
 
 #define LANES 4
-#define EVENT_BLOCK 16       /* as the splitting back end: criteria are checked every 16 steps */
 #define MSG_LEN 192
 #define FPL_INLINE static inline __attribute__((always_inline))
 
@@ -70,6 +70,24 @@ void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt)
     opt->compact = 1;
 }
 
+/* The batch kernel runs the splitting schemes with the kinetic drift (no run_setup of their
+ * own), in the registry's order: the one list of batch methods (Python reads it from here). */
+int fpl_chaos_batch_method_count(void)
+{
+    int count = 0;
+    for (int i = 0; i < fpl_splitting_count(); i++) count += !fpl_splitting_at(i)->run_setup;
+    return count;
+}
+
+const char *fpl_chaos_batch_method_name(int index)
+{
+    for (int i = 0; i < fpl_splitting_count(); i++) {
+        const fpl_splitting *sch = fpl_splitting_at(i);
+        if (!sch->run_setup && index-- == 0) return sch->name;
+    }
+    return NULL;
+}
+
 /* ---- the step over one group of LANES slots ---------------------------------------------- */
 
 /* A group's LANES doubles as one value: GCC's generic vectors (one AVX2 register in the
@@ -103,8 +121,8 @@ FPL_INLINE void drift_group(const fpl_chaos_batch *B, grp G, double h, int model
         double *xm = G.y + (size_t)2 * n * m * LANES, *pm = xm + (size_t)n * LANES;
         for (int i = 0; i < n; i++) {
             /* minv = 1 except for model 2: h * 1 * p = h * p exactly */
-            if (model == FPL_MODEL_HAMILTONIAN) V(ROW(xm, i)) += h * VC(ROW(G.minv, i)) * VC(ROW(pm, i));
-            else V(ROW(xm, i)) += h * VC(ROW(pm, i));
+            if (model == FPL_MODEL_HAMILTONIAN) FPL_DRIFT(V(ROW(xm, i)), h, VC(ROW(G.minv, i)), VC(ROW(pm, i)));
+            else FPL_DRIFT_UNIT(V(ROW(xm, i)), h, VC(ROW(pm, i)));
         }
     }
 }
@@ -120,8 +138,8 @@ FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int mode
     const vd xj = VC(ROW(G.y, jc)), xl = VC(ROW(G.y, lc));
     if (model == FPL_MODEL_HOMOGENEOUS) {
         const vd d = which == 0 ? xj : which == 1 ? xj - xl : -xl;
-        *phi = d + d * d * (a + b * d);
-        *kap = 1.0 + d * (2.0 * a + 3.0 * b * d);
+        *phi = FPL_HOM_PHI(d, a, b);
+        *kap = FPL_HOM_KAPPA(d, a, b);
         return;
     }
     const int plain = model == FPL_MODEL_NONLINEAR;
@@ -137,8 +155,8 @@ FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int mode
         L = plain ? -xl : -VC(ROW(G.cl, lc)) * xl;
         R = -cnl * xl;
     }
-    *phi = L + R * R * (a + b * R);
-    *kap = R * (2.0 * a + 3.0 * b * R);
+    *phi = FPL_PHI(L, R, a, b);
+    *kap = FPL_KAPPA(R, a, b);
 }
 
 /* Tangent bond force dphi_b of one deviation vector (rows dx) (models.c: bond_tangent_*). */
@@ -155,20 +173,20 @@ FPL_INLINE void bond_tangent(grp G, const double *dx, int j, int which, int mode
     const int plain = model == FPL_MODEL_NONLINEAR;
     const vd cnj = VC(ROW(G.cn, jc)), cnl = VC(ROW(G.cn, lc));
     if (which == 0)
-        *out = (plain ? dj : VC(ROW(G.cl, jc)) * dj) + kap * cnj * dj;
+        *out = FPL_DPHI_LEFT(plain ? dj : VC(ROW(G.cl, jc)) * dj, kap, cnj, dj);
     else if (which == 1)
-        *out = (plain ? dj - dl : VC(ROW(G.cl, jc)) * dj - VC(ROW(G.cl, lc)) * dl)
-             + kap * (cnj * dj - cnl * dl);
+        *out = FPL_DPHI(plain ? dj - dl : VC(ROW(G.cl, jc)) * dj - VC(ROW(G.cl, lc)) * dl, kap,
+                        cnj * dj - cnl * dl);
     else
-        *out = (plain ? -dl : -VC(ROW(G.cl, lc)) * dl) - kap * cnl * dl;
+        *out = FPL_DPHI_RIGHT(plain ? -dl : -VC(ROW(G.cl, lc)) * dl, kap, cnl, dl);
 }
 
 /* p_i += h s_i (phi_{i+1} - phi_i) (models.c: add_divergence; s = 1 except for model 2). */
 FPL_INLINE void divergence(grp G, double *p, int i, double h, int model, const vd *f1,
                            const vd *f0)
 {
-    if (model == FPL_MODEL_HAMILTONIAN) V(ROW(p, i)) += h * VC(ROW(G.sc, i)) * (*f1 - *f0);
-    else V(ROW(p, i)) += h * (*f1 - *f0);
+    if (model == FPL_MODEL_HAMILTONIAN) FPL_KICK(V(ROW(p, i)), h, VC(ROW(G.sc, i)), *f1, *f0);
+    else FPL_KICK_UNIT(V(ROW(p, i)), h, *f1, *f0);
 }
 
 /* Bond j (which = 1 interior, 2 the right end with j = N) completes particle j-1's kick; then
@@ -192,8 +210,8 @@ FPL_INLINE void kick_drift_particle(const fpl_chaos_batch *B, grp G, int j, int 
     for (int m = 0; m <= k; m++) {
         double *x = ROW(y + (size_t)2 * n * m * LANES, j - 1);
         const double *pm = ROW(y + (size_t)(2 * m + 1) * n * LANES, j - 1);
-        if (model == FPL_MODEL_HAMILTONIAN) V(x) += hd * VC(ROW(G.minv, j - 1)) * VC(pm);
-        else V(x) += hd * VC(pm);
+        if (model == FPL_MODEL_HAMILTONIAN) FPL_DRIFT(V(x), hd, VC(ROW(G.minv, j - 1)), VC(pm));
+        else FPL_DRIFT_UNIT(V(x), hd, VC(pm));
     }
 }
 
@@ -263,7 +281,7 @@ FPL_INLINE void check_group(const fpl_chaos_batch *B, grp G, unsigned char *fire
                 for (int w = 0; w < LANES; w++) {
                     double r = (j < n ? ROW(c, j)[w] * ROW(y, j)[w] : 0.0)
                              - (j > 0 ? ROW(c, j - 1)[w] * ROW(y, j - 1)[w] : 0.0);
-                    v[w] += r * r * (0.5 + r * (a / 3.0 + 0.25 * b * r));
+                    v[w] += FPL_BOND_ENERGY(r, a, b);
                 }
             }
         }
@@ -273,7 +291,7 @@ FPL_INLINE void check_group(const fpl_chaos_batch *B, grp G, unsigned char *fire
     for (int w = 0; w < LANES; w++) fired[w] |= (unsigned char)bad[w];
 }
 
-/* Advance one group by nsteps steps of dt; with criteria, check them every EVENT_BLOCK steps
+/* Advance one group by nsteps steps of dt; with criteria, check them every FPL_EVENT_BLOCK steps
  * (the lane's block boundaries are those of fpl_integrator_advance from the interval start). */
 FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int g, long nsteps, double dt, int model,
                           int k, int check)
@@ -285,7 +303,7 @@ FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int g, long nsteps, dou
         return;
     }
     for (long done = 0; done < nsteps;) {
-        long block = nsteps - done < EVENT_BLOCK ? nsteps - done : EVENT_BLOCK;
+        long block = nsteps - done < FPL_EVENT_BLOCK ? nsteps - done : FPL_EVENT_BLOCK;
         for (long i = 0; i < block; i++) step_group(B, G, dt, model, k);
         done += block;
         unsigned char before[LANES];
@@ -529,8 +547,9 @@ static void run_lone(fpl_chaos_batch *B, double *y, int s, long nsteps, double d
     double *ly = B->lane_y;
     slot_get(B, y, s, ly);
     for (long done = 0; done < nsteps;) {
-        long block = B->ev.n > 0 && check ? (nsteps - done < EVENT_BLOCK ? nsteps - done : EVENT_BLOCK)
-                                          : nsteps - done;
+        long block = B->ev.n > 0 && check
+                         ? (nsteps - done < FPL_EVENT_BLOCK ? nsteps - done : FPL_EVENT_BLOCK)
+                         : nsteps - done;
         fpl_split_steps(sch, &run.sys, ly, dt, block);
         done += block;
         if (B->ev.n > 0 && check && !B->fired[s]) {
@@ -746,15 +765,19 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
                              "supported by the batch kernel (use stretch, displacement or energy)", i);
     if (!method) return fpl_error(NULL, FPL_ERR_ARG, "method: NULL name");
     const fpl_splitting *sch = NULL;
-    for (int i = 0; i < fpl_splitting_count(); i++)
-        if (strcmp(fpl_splitting_at(i)->name, method) == 0) sch = fpl_splitting_at(i);
+    fpl_splitting_lookup(method, &sch);
     if (!sch || sch->run_setup) {
         int order, adaptive;
         int known = fpl_method_info(method, &order, &adaptive) == FPL_OK;
+        char names[256] = "";
+        for (int i = 0; i < fpl_chaos_batch_method_count(); i++) {
+            size_t used = strlen(names);
+            snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "",
+                     fpl_chaos_batch_method_name(i));
+        }
         return fpl_error(NULL, known ? FPL_ERR_ARG : FPL_ERR_UNKNOWN,
                          "method '%s' %s: the batch kernel runs the kinetic-drift splitting schemes "
-                         "(leapfrog, yoshida4, aba864, srkn14a6)", method,
-                         known ? "is not supported" : "is unknown");
+                         "(%s)", method, known ? "is not supported" : "is unknown", names);
     }
     *scheme = sch;
     *dt = io ? io->dt : 0.01;

@@ -64,7 +64,9 @@ void fpl_events_eval(const fpl_lattice *lat, fpl_work *work, const fpl_event_set
                 fpl_modes_energies_work(lat, work, y, work->ek);
                 have_modes = 1;
             }
-            if (ev->mode[i] > 0) value = work->ek[ev->mode[i] - 1];
+            /* fixed ends: mode k at index k-1; a ring: wavenumber k at index k */
+            if (ev->mode[i] > 0)
+                value = work->ek[ev->mode[i] - (lat->boundary == FPL_BOUNDARY_PERIODIC ? 0 : 1)];
             else
                 for (int k = 0; k < n; k++) value = fmax(value, work->ek[k]);
         }
@@ -82,9 +84,16 @@ int fpl_system_create(const fpl_lattice *lattice, const fpl_event_set *events, f
     if (!lattice) return fpl_error(NULL, FPL_ERR_ARG, "lattice: NULL handle");
     int st = fpl_events_check(events, lattice->n);
     if (st) return st;
+    /* a ring's modes are wavenumbers 0..N-1 (E_0 the constant centre-of-mass energy) */
+    for (int i = 0; events && i < events->n; i++)
+        if (lattice->boundary == FPL_BOUNDARY_PERIODIC && events->kind[i] == FPL_EVENT_MODE_ENERGY &&
+            events->mode[i] >= lattice->n)
+            return fpl_error(NULL, FPL_ERR_ARG, "events: mode[%d] must be a wavenumber in 1..N-1 = "
+                             "%d for a periodic chain, or 0 for the maximum (got %d)", i,
+                             lattice->n - 1, events->mode[i]);
     fpl_system *sys = calloc(1, sizeof *sys);
     if (!sys) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating the system");
-    st = fpl_work_create(lattice->n, 1, &sys->work);
+    st = fpl_work_create(lattice->n, FPL_WORK_MODES_OF(lattice), &sys->work);
     if (st) {
         free(sys);
         return st;

@@ -175,6 +175,8 @@ int fpl_h5_write_description(hid_t file, const char *schema, const fpl_lattice *
     bad |= fpl_h5_set_long(file, "N", lat->n);
     bad |= fpl_h5_set_long(file, "model", lat->ops->model);
     bad |= fpl_h5_set_string(file, "model_name", lat->ops->name);
+    bad |= fpl_h5_set_string(file, "boundary",
+                             lat->boundary == FPL_BOUNDARY_PERIODIC ? "periodic" : "fixed");
     bad |= fpl_h5_set_double(file, "alpha", lat->alpha);
     bad |= fpl_h5_set_double(file, "beta", lat->beta);
     bad |= fpl_h5_set_string(file, "method", str_or(info->method, ""));
@@ -208,6 +210,12 @@ int fpl_h5_check_description(hid_t file, const char *path, const char *schema,
     if (model != lat->ops->model)
         return fpl_error(NULL, FPL_ERR_ARG, "%s is for model %s, this run is model %s", path,
                          fpl_model_name((int)model), lat->ops->name);
+    /* files written before periodic chains existed have no boundary attribute: fixed ends */
+    const char *want = lat->boundary == FPL_BOUNDARY_PERIODIC ? "periodic" : "fixed";
+    if (fpl_h5_get_string(file, "boundary", buf, sizeof buf)) strcpy(buf, "fixed");
+    if (strcmp(buf, want) != 0)
+        return fpl_error(NULL, FPL_ERR_ARG, "%s is for a chain with %s boundaries, this run's are %s",
+                         path, buf, want);
     if (memcmp(&alpha, &lat->alpha, sizeof alpha) != 0 || memcmp(&beta, &lat->beta, sizeof beta) != 0)
         return fpl_error(NULL, FPL_ERR_ARG,
                          "%s is for alpha = %.17g, beta = %.17g; this run has alpha = %.17g, beta = %.17g",

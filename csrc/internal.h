@@ -33,15 +33,28 @@ typedef struct fpl_work {
     double *phi;    /* N+1: bond forces */
     double *kappa;  /* N+1: bond curvatures dphi/dR - dL/dR part */
     double *dphi;   /* N+1: tangent bond forces; the velocities in fpl_modes_energies_work */
-    double *fft;    /* 2(N+1) for the sine transform */
-    void *fft_wavetable;  /* NULL unless created with_modes */
-    void *fft_workspace;
+    double *fft;    /* 2(N+1) for the sine transform (N for the Fourier one) */
+    struct fpl_rdft *rdft;  /* the real FFT of the mode transform; NULL without modes */
     double *ek;     /* N: mode energies for the event criteria */
 } fpl_work;
 
-/* Allocate a workspace for lattices of N = n (errors via fpl_error); with_modes: also the FFT
- * tables of the mode transforms (fpl_modes_energies_work, mode-energy criteria). */
-int fpl_work_create(int n, int with_modes, fpl_work **out);
+/* A real DFT of any length m in O(m log m) (fft.c): GSL's mixed radix, or Bluestein's algorithm
+ * for lengths with a large prime factor. forward: data (length m) -> GSL's half-complex layout
+ * (X_0, Re X_1, Im X_1, ..., and Re X_{m/2} last for even m), in place. */
+typedef struct fpl_rdft fpl_rdft;
+int fpl_rdft_create(size_t m, fpl_rdft **out);
+int fpl_rdft_forward(fpl_rdft *plan, double *data);
+void fpl_rdft_free(fpl_rdft **plan);
+
+/* The mode transform a workspace carries: none, the fixed chain's sine transform (a real FFT of
+ * length 2(N+1)) or the periodic chain's Fourier transform (length N). */
+enum { FPL_WORK_NO_MODES = 0, FPL_WORK_SINE_MODES = 1, FPL_WORK_FOURIER_MODES = 2 };
+#define FPL_WORK_MODES_OF(lat) \
+    ((lat)->boundary == FPL_BOUNDARY_PERIODIC ? FPL_WORK_FOURIER_MODES : FPL_WORK_SINE_MODES)
+
+/* Allocate a workspace for lattices of N = n (errors via fpl_error); modes: also the FFT plan of
+ * that mode transform (fpl_modes_energies_work, mode-energy criteria). */
+int fpl_work_create(int n, int modes, fpl_work **out);
 void fpl_work_free(fpl_work **work);
 
 /* A model is data: per-particle coefficient arrays plus a table of kernels.
@@ -171,6 +184,10 @@ void fpl_split_step(const fpl_splitting *scheme, const fpl_split_system *sys, do
 /* n such steps (sys->steps if the system has it). */
 void fpl_split_steps(const fpl_splitting *scheme, const fpl_split_system *sys, double *y,
                      double dt, long n);
+
+/* How often (in steps) stopping criteria are evaluated on a fixed-step run (the splitting back
+ * end and the chaos batch kernel alike): their cost is O(N), like a force. */
+#define FPL_EVENT_BLOCK 16
 
 /* How often (in steps) the grid driver looks for NaN/Inf: a blow-up is caught early, placed in
  * time, and the state rolled back to the last finite grid state (a copy every chunk costs

@@ -6,6 +6,7 @@
  * The kicks form V'(d_b) and V''(d_b) from one expm1 per bond into the scratch arrays; the loops
  * stay branch-free, but expm1 is a libm call, so they do not vectorise as the polynomial ones. */
 #include "models_extra.h"
+#include "model_terms.h"
 
 #define FPL_INLINE static inline __attribute__((always_inline))
 
@@ -22,21 +23,21 @@ FPL_INLINE void toda_bonds(int n, const double *restrict x, double alpha, double
 {
     const double two_a = 2.0 * alpha, inv_2a = 0.5 / alpha;
     const double d0 = ring ? x[0] - x[n - 1] : x[0];
-    double m = expm1(two_a * d0);
-    phi[0] = m * inv_2a;
-    if (tangent) kap[0] = 1.0 + m;
+    double m = FPL_TODA_M(d0, two_a);
+    phi[0] = FPL_TODA_PHI(m, inv_2a);
+    if (tangent) kap[0] = FPL_TODA_KAPPA(m);
     for (int k = 1; k < n; k++) {
-        const double mk = expm1(two_a * (x[k] - x[k - 1]));
-        phi[k] = mk * inv_2a;
-        if (tangent) kap[k] = 1.0 + mk;
+        const double mk = FPL_TODA_M(x[k] - x[k - 1], two_a);
+        phi[k] = FPL_TODA_PHI(mk, inv_2a);
+        if (tangent) kap[k] = FPL_TODA_KAPPA(mk);
     }
     if (ring) {
         phi[n] = phi[0];
         if (tangent) kap[n] = kap[0];
     } else {
-        m = expm1(two_a * -x[n - 1]);
-        phi[n] = m * inv_2a;
-        if (tangent) kap[n] = 1.0 + m;
+        m = FPL_TODA_M(-x[n - 1], two_a);
+        phi[n] = FPL_TODA_PHI(m, inv_2a);
+        if (tangent) kap[n] = FPL_TODA_KAPPA(m);
     }
 }
 
@@ -54,7 +55,7 @@ FPL_INLINE void add_divergence_unit(int n, double h, const double *restrict phi,
                                     double *restrict p)
 {
     for (int i = 0; i < n; i++)
-        p[i] += h * (phi[i + 1] - phi[i]);
+        FPL_KICK_UNIT(p[i], h, phi[i + 1], phi[i]);
 }
 
 FPL_INLINE void toda_kick_body(const fpl_lattice_ctx *c, double *y, double h, const int ring)

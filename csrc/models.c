@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "models_extra.h"
+#include "model_terms.h"
 
 /* Inlined into the kicks so that their AVX2 clones (FPL_HOT) vectorise these loops 4-wide too. */
 #define FPL_INLINE static inline __attribute__((always_inline))
@@ -16,49 +17,49 @@ FPL_INLINE void bond_forces_generic(int n, const double *restrict x, const doubl
                                 double *restrict phi, double *restrict kap)
 {
     double L = cl[0] * x[0], R = cn[0] * x[0];
-    phi[0] = L + R * R * (a + b * R);
-    if (kap) kap[0] = R * (2.0 * a + 3.0 * b * R);
+    phi[0] = FPL_PHI(L, R, a, b);
+    if (kap) kap[0] = FPL_KAPPA(R, a, b);
     if (kap) {
         for (int k = 1; k < n; k++) {
             double Lk = cl[k] * x[k] - cl[k - 1] * x[k - 1];
             double Rk = cn[k] * x[k] - cn[k - 1] * x[k - 1];
-            phi[k] = Lk + Rk * Rk * (a + b * Rk);
-            kap[k] = Rk * (2.0 * a + 3.0 * b * Rk);
+            phi[k] = FPL_PHI(Lk, Rk, a, b);
+            kap[k] = FPL_KAPPA(Rk, a, b);
         }
     } else {
         for (int k = 1; k < n; k++) {
             double Lk = cl[k] * x[k] - cl[k - 1] * x[k - 1];
             double Rk = cn[k] * x[k] - cn[k - 1] * x[k - 1];
-            phi[k] = Lk + Rk * Rk * (a + b * Rk);
+            phi[k] = FPL_PHI(Lk, Rk, a, b);
         }
     }
     L = -cl[n - 1] * x[n - 1];
     R = -cn[n - 1] * x[n - 1];
-    phi[n] = L + R * R * (a + b * R);
-    if (kap) kap[n] = R * (2.0 * a + 3.0 * b * R);
+    phi[n] = FPL_PHI(L, R, a, b);
+    if (kap) kap[n] = FPL_KAPPA(R, a, b);
 }
 
 FPL_INLINE void bond_forces_homogeneous(int n, const double *restrict x, double a, double b,
                                     double *restrict phi, double *restrict kap)
 {
     double d = x[0];
-    phi[0] = d + d * d * (a + b * d);
-    if (kap) kap[0] = 1.0 + d * (2.0 * a + 3.0 * b * d);
+    phi[0] = FPL_HOM_PHI(d, a, b);
+    if (kap) kap[0] = FPL_HOM_KAPPA(d, a, b);
     if (kap) {
         for (int k = 1; k < n; k++) {
             double dk = x[k] - x[k - 1];
-            phi[k] = dk + dk * dk * (a + b * dk);
-            kap[k] = 1.0 + dk * (2.0 * a + 3.0 * b * dk);
+            phi[k] = FPL_HOM_PHI(dk, a, b);
+            kap[k] = FPL_HOM_KAPPA(dk, a, b);
         }
     } else {
         for (int k = 1; k < n; k++) {
             double dk = x[k] - x[k - 1];
-            phi[k] = dk + dk * dk * (a + b * dk);
+            phi[k] = FPL_HOM_PHI(dk, a, b);
         }
     }
     d = -x[n - 1];
-    phi[n] = d + d * d * (a + b * d);
-    if (kap) kap[n] = 1.0 + d * (2.0 * a + 3.0 * b * d);
+    phi[n] = FPL_HOM_PHI(d, a, b);
+    if (kap) kap[n] = FPL_HOM_KAPPA(d, a, b);
 }
 
 /* Tangent bond forces dphi_b = dL_b + kappa_b dR_b. */
@@ -66,11 +67,11 @@ FPL_INLINE void bond_tangent_generic(int n, const double *restrict dx, const dou
                                  const double *restrict cn, const double *restrict kap,
                                  double *restrict dphi)
 {
-    dphi[0] = cl[0] * dx[0] + kap[0] * cn[0] * dx[0];
+    dphi[0] = FPL_DPHI_LEFT(cl[0] * dx[0], kap[0], cn[0], dx[0]);
     for (int k = 1; k < n; k++)
-        dphi[k] = (cl[k] * dx[k] - cl[k - 1] * dx[k - 1])
-                + kap[k] * (cn[k] * dx[k] - cn[k - 1] * dx[k - 1]);
-    dphi[n] = -cl[n - 1] * dx[n - 1] - kap[n] * cn[n - 1] * dx[n - 1];
+        dphi[k] = FPL_DPHI(cl[k] * dx[k] - cl[k - 1] * dx[k - 1], kap[k],
+                           cn[k] * dx[k] - cn[k - 1] * dx[k - 1]);
+    dphi[n] = FPL_DPHI_RIGHT(-cl[n - 1] * dx[n - 1], kap[n], cn[n - 1], dx[n - 1]);
 }
 
 /* Homogeneous: kap already holds the full curvature V''(d_b). */
@@ -87,13 +88,13 @@ FPL_INLINE void add_divergence(int n, double h, const double *restrict s, const 
                            double *restrict p)
 {
     for (int i = 0; i < n; i++)
-        p[i] += h * s[i] * (phi[i + 1] - phi[i]);
+        FPL_KICK(p[i], h, s[i], phi[i + 1], phi[i]);
 }
 
 FPL_INLINE void add_divergence_unit(int n, double h, const double *restrict phi, double *restrict p)
 {
     for (int i = 0; i < n; i++)
-        p[i] += h * (phi[i + 1] - phi[i]);
+        FPL_KICK_UNIT(p[i], h, phi[i + 1], phi[i]);
 }
 
 /* ---- kicks (the hot path of the splitting schemes) ------------------------------------- */
@@ -120,13 +121,12 @@ FPL_HOT static void kick_generic(void *ctx, double *y, double h)
  * streamed is kappa (the phi/dphi passes of bond_forces_homogeneous / bond_tangent_homogeneous
  * cost ~2x at large N, benchmarks/roofline.c). Same expressions in the same order as those:
  * bit-identical results. */
-#define PHI_H(d) ((d) + (d) * (d) * (a + b * (d)))
-#define KAP_H(d) (1.0 + (d) * (2.0 * a + 3.0 * b * (d)))
+#define PHI_H(d) FPL_HOM_PHI(d, a, b)
+#define KAP_H(d) FPL_HOM_KAPPA(d, a, b)
 /* The loops take `cubic` as a constant (their callers are inlined with 0 or 1): with beta = 0 the
- * cubic terms are dropped, 4 of ~20 flops a particle. Same bits: with b = 0, a + b d == a and
- * 2 a + 3 b d == 2 a exactly (finite d), so PHI_H == d + (d d) a and KAP_H == 1 + d (2 a). */
-#define PHI_C(d) (cubic ? PHI_H(d) : (d) + (d) * (d) * a)
-#define KAP_C(d) (cubic ? KAP_H(d) : 1.0 + (d) * (2.0 * a))
+ * cubic terms are dropped, 4 of ~20 flops a particle, with the same bits (model_terms.h). */
+#define PHI_C(d) (cubic ? PHI_H(d) : FPL_HOM_PHI_QUAD(d, a))
+#define KAP_C(d) (cubic ? KAP_H(d) : FPL_HOM_KAPPA_QUAD(d, a))
 
 FPL_INLINE void kick_orbit_homogeneous(int n, const double *restrict x, double *restrict p,
                                        double a, double b, double h, double *restrict kap,
@@ -134,7 +134,7 @@ FPL_INLINE void kick_orbit_homogeneous(int n, const double *restrict x, double *
 {
     for (int i = 1; i < n - 1; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
-        p[i] += h * (PHI_C(dr) - PHI_C(dl));
+        FPL_KICK_UNIT(p[i], h, PHI_C(dr), PHI_C(dl));
         if (kap) kap[i] = KAP_C(dl);
     }
 }
@@ -143,7 +143,7 @@ FPL_INLINE void kick_tangent_homogeneous(int n, const double *restrict dx, doubl
                                          const double *restrict kap, double h)
 {
     for (int i = 1; i < n - 1; i++)
-        dp[i] += h * (kap[i + 1] * (dx[i + 1] - dx[i]) - kap[i] * (dx[i] - dx[i - 1]));
+        FPL_KICK_UNIT(dp[i], h, kap[i + 1] * (dx[i + 1] - dx[i]), kap[i] * (dx[i] - dx[i - 1]));
 }
 
 /* Chains without an interior particle (N < 3): the bond-array form. Kept out of line (noipa) so
@@ -176,10 +176,10 @@ FPL_INLINE void kick_orbit_tangent_homogeneous(int n, const double *restrict x,
     /* `two` is a constant at every (inlined) call: the second vector's line is there or not */
     for (int i = 1; i < n - 1; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
-        p[i] += h * (PHI_C(dr) - PHI_C(dl));
+        FPL_KICK_UNIT(p[i], h, PHI_C(dr), PHI_C(dl));
         const double kl = KAP_C(dl), kr = KAP_C(dr);
-        q[i] += h * (kr * (u[i + 1] - u[i]) - kl * (u[i] - u[i - 1]));
-        if (two) r[i] += h * (kr * (w[i + 1] - w[i]) - kl * (w[i] - w[i - 1]));
+        FPL_KICK_UNIT(q[i], h, kr * (u[i + 1] - u[i]), kl * (u[i] - u[i - 1]));
+        if (two) FPL_KICK_UNIT(r[i], h, kr * (w[i + 1] - w[i]), kl * (w[i] - w[i - 1]));
     }
 }
 
@@ -189,8 +189,8 @@ FPL_INLINE void kick_tangent_ends(int n, const double *dx, double *dp, double k0
 {
     const double t0 = k0 * dx[0], t1 = k1 * (dx[1] - dx[0]);
     const double tm = km * (dx[n - 1] - dx[n - 2]), tn = -kn * dx[n - 1];
-    dp[0] += h * (t1 - t0);
-    dp[n - 1] += h * (tn - tm);
+    FPL_KICK_UNIT(dp[0], h, t1, t0);
+    FPL_KICK_UNIT(dp[n - 1], h, tn, tm);
 }
 
 FPL_INLINE void kick_homogeneous_body(const fpl_lattice_ctx *c, double *y, double h,
@@ -231,8 +231,8 @@ FPL_INLINE void kick_homogeneous_body(const fpl_lattice_ctx *c, double *y, doubl
             kick_tangent_homogeneous(n, dx, (double *)dx + n, kap, h);
         }
     }
-    p[0] += h * (phi1 - phi0);
-    p[n - 1] += h * (phin - phim);
+    FPL_KICK_UNIT(p[0], h, phi1, phi0);
+    FPL_KICK_UNIT(p[n - 1], h, phin, phim);
     for (int m = 0; m < n_dev; m++) {
         const double *dx = y + stride * (size_t)(m + 1);
         kick_tangent_ends(n, dx, (double *)dx + n, k0, k1, km, kn, h);
@@ -251,7 +251,7 @@ FPL_INLINE void drift_unit_mass_body(const fpl_lattice_ctx *c, double *y, double
         double *restrict x = y + 2 * (size_t)n * m;
         const double *restrict p = x + n;
         for (int i = 0; i < n; i++)
-            x[i] += h * p[i];
+            FPL_DRIFT_UNIT(x[i], h, p[i]);
     }
 }
 
@@ -271,7 +271,7 @@ FPL_HOT static void drift_masses(void *ctx, double *y, int stage, double h)
         double *restrict x = y + 2 * (size_t)n * m;
         const double *restrict p = x + n;
         for (int i = 0; i < n; i++)
-            x[i] += h * minv[i] * p[i];
+            FPL_DRIFT(x[i], h, minv[i], p[i]);
     }
 }
 
@@ -326,16 +326,16 @@ FPL_HOT void fpl_kernel_anharmonic_force(const fpl_lattice *lat, fpl_work *work,
     const double *restrict cn = lat->cn;
     double *restrict phi = work->phi, *restrict kap = work->kappa;
     double R = cn[0] * x[0];
-    phi[0] = R * R * (a + b * R);
-    kap[0] = R * (2.0 * a + 3.0 * b * R);
+    phi[0] = FPL_ANH_PHI(R, a, b);
+    kap[0] = FPL_KAPPA(R, a, b);
     for (int k = 1; k < n; k++) {
         double Rk = cn[k] * x[k] - cn[k - 1] * x[k - 1];
-        phi[k] = Rk * Rk * (a + b * Rk);
-        kap[k] = Rk * (2.0 * a + 3.0 * b * Rk);
+        phi[k] = FPL_ANH_PHI(Rk, a, b);
+        kap[k] = FPL_KAPPA(Rk, a, b);
     }
     R = -cn[n - 1] * x[n - 1];
-    phi[n] = R * R * (a + b * R);
-    kap[n] = R * (2.0 * a + 3.0 * b * R);
+    phi[n] = FPL_ANH_PHI(R, a, b);
+    kap[n] = FPL_KAPPA(R, a, b);
     for (int i = 0; i < n; i++)
         f[i] = phi[i + 1] - phi[i];
 }
@@ -358,7 +358,7 @@ FPL_HOT void fpl_kernel_anharmonic_tangent(const fpl_lattice *lat, fpl_work *wor
 
 static double bond_energy(double r, double a, double b)
 {
-    return r * r * (0.5 + r * (a / 3.0 + 0.25 * b * r));
+    return FPL_BOND_ENERGY(r, a, b);
 }
 
 /* 1/2 sum minv p^2 + sum_b V(c[b] x[b] - c[b-1] x[b-1]). */

@@ -5,6 +5,7 @@
  * is model_toda.c's. */
 #include <string.h>
 #include "models_extra.h"
+#include "model_terms.h"
 
 #define FPL_INLINE static inline __attribute__((always_inline))
 
@@ -19,7 +20,7 @@ FPL_HOT void fpl_drift_unit_mass(void *ctx, double *y, int stage, double h)
         double *restrict x = y + 2 * (size_t)n * m;
         const double *restrict p = x + n;
         for (int i = 0; i < n; i++)
-            x[i] += h * p[i];
+            FPL_DRIFT_UNIT(x[i], h, p[i]);
     }
 }
 
@@ -33,7 +34,7 @@ FPL_HOT void fpl_drift_masses(void *ctx, double *y, int stage, double h)
         double *restrict x = y + 2 * (size_t)n * m;
         const double *restrict p = x + n;
         for (int i = 0; i < n; i++)
-            x[i] += h * minv[i] * p[i];
+            FPL_DRIFT(x[i], h, minv[i], p[i]);
     }
 }
 
@@ -47,13 +48,13 @@ FPL_INLINE void bond_forces_periodic(int n, const double *restrict x, const doub
 {
     const double L = cl[0] * x[0] - cl[n - 1] * x[n - 1];
     const double R = cn[0] * x[0] - cn[n - 1] * x[n - 1];
-    phi[0] = phi[n] = L + R * R * (a + b * R);
-    if (tangent) kap[0] = kap[n] = R * (2.0 * a + 3.0 * b * R);
+    phi[0] = phi[n] = FPL_PHI(L, R, a, b);
+    if (tangent) kap[0] = kap[n] = FPL_KAPPA(R, a, b);
     for (int k = 1; k < n; k++) {
         const double Lk = cl[k] * x[k] - cl[k - 1] * x[k - 1];
         const double Rk = cn[k] * x[k] - cn[k - 1] * x[k - 1];
-        phi[k] = Lk + Rk * Rk * (a + b * Rk);
-        if (tangent) kap[k] = Rk * (2.0 * a + 3.0 * b * Rk);
+        phi[k] = FPL_PHI(Lk, Rk, a, b);
+        if (tangent) kap[k] = FPL_KAPPA(Rk, a, b);
     }
 }
 
@@ -61,18 +62,18 @@ FPL_INLINE void bond_tangent_periodic(int n, const double *restrict dx, const do
                                       const double *restrict cn, const double *restrict kap,
                                       double *restrict dphi)
 {
-    dphi[0] = dphi[n] = (cl[0] * dx[0] - cl[n - 1] * dx[n - 1])
-                      + kap[0] * (cn[0] * dx[0] - cn[n - 1] * dx[n - 1]);
+    dphi[0] = dphi[n] = FPL_DPHI(cl[0] * dx[0] - cl[n - 1] * dx[n - 1], kap[0],
+                                 cn[0] * dx[0] - cn[n - 1] * dx[n - 1]);
     for (int k = 1; k < n; k++)
-        dphi[k] = (cl[k] * dx[k] - cl[k - 1] * dx[k - 1])
-                + kap[k] * (cn[k] * dx[k] - cn[k - 1] * dx[k - 1]);
+        dphi[k] = FPL_DPHI(cl[k] * dx[k] - cl[k - 1] * dx[k - 1], kap[k],
+                           cn[k] * dx[k] - cn[k - 1] * dx[k - 1]);
 }
 
 FPL_INLINE void add_divergence(int n, double h, const double *restrict s,
                                const double *restrict phi, double *restrict p)
 {
     for (int i = 0; i < n; i++)
-        p[i] += h * s[i] * (phi[i + 1] - phi[i]);
+        FPL_KICK(p[i], h, s[i], phi[i + 1], phi[i]);
 }
 
 FPL_HOT static void kick_generic_periodic(void *ctx, double *y, double h)
@@ -98,8 +99,8 @@ FPL_HOT static void kick_generic_periodic(void *ctx, double *y, double h)
 
 /* V'(d) and V''(d) of the FPUT-alpha-beta bond; `cubic` is a constant at every inlined call
  * (beta = 0 drops the cubic terms, as models.c does). */
-#define PHI_P(d) (cubic ? (d) + (d) * (d) * (a + b * (d)) : (d) + (d) * (d) * a)
-#define KAP_P(d) (cubic ? 1.0 + (d) * (2.0 * a + 3.0 * b * (d)) : 1.0 + (d) * (2.0 * a))
+#define PHI_P(d) (cubic ? FPL_HOM_PHI(d, a, b) : FPL_HOM_PHI_QUAD(d, a))
+#define KAP_P(d) (cubic ? FPL_HOM_KAPPA(d, a, b) : FPL_HOM_KAPPA_QUAD(d, a))
 
 /* Particles 1..N-2 form both their bonds' forces where they are used (no phi array); with
  * `store`, kappa_i = V''(d_i) of their left bond goes to kap for the deviation vectors. */
@@ -169,7 +170,7 @@ FPL_INLINE void drift_unit_body(const fpl_lattice_ctx *c, double *y, double h)
         double *restrict x = y + 2 * (size_t)n * m;
         const double *restrict p = x + n;
         for (int i = 0; i < n; i++)
-            x[i] += h * p[i];
+            FPL_DRIFT_UNIT(x[i], h, p[i]);
     }
 }
 

@@ -150,7 +150,7 @@ static int new_handle(const fpl_lattice *lat, const fpl_run_info *info, fpl_resu
     if (r->chunk > rows_fit) r->chunk = (int)rows_fit;   /* chunks of at most 1 MiB */
     const int cols[S_COUNT] = {0, 0, lat->n, (int)r->dim};
     int bad = !(r->ek = malloc(sizeof(double) * (size_t)lat->n));
-    bad |= fpl_work_create(lat->n, 1, &r->work) != FPL_OK;
+    bad |= fpl_work_create(lat->n, FPL_WORK_MODES_OF(lat), &r->work) != FPL_OK;
     for (int i = 0; i < S_COUNT; i++) {
         r->s[i] = (series){-1, cols[i], 0, FPL_FNV_OFFSET};
         if (i == S_STATES && !r->store_states) continue;
@@ -580,13 +580,14 @@ long fpl_results_count(const fpl_results *r) { return r ? r->s[S_T].rows + r->nb
  * (1..2N(1+n_dev), for states) are small index datasets made scales of the column axes. In
  * /chaos, chaos/t is the scale of mle, sali, gali. Called once, when the datasets are created
  * (a resumed file has them already). Returns 0, or -1 with HDF5's message in r->h5msg. */
-static hid_t index_scale(hid_t loc, const char *name, long n)
+/* A dimension scale first, first + 1, ..., first + n - 1. */
+static hid_t index_scale(hid_t loc, const char *name, long n, int first)
 {
     hsize_t dims[1] = {(hsize_t)n};
     hid_t space = H5Screate_simple(1, dims, NULL), d = -1;
     int *idx = malloc(sizeof(int) * (size_t)n);
     if (idx && space >= 0) {
-        for (long i = 0; i < n; i++) idx[i] = (int)(i + 1);
+        for (long i = 0; i < n; i++) idx[i] = (int)(i + first);
         d = H5Dcreate2(loc, name, H5T_NATIVE_INT, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
         if (d >= 0 && (H5Dwrite(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, idx) < 0 ||
                        H5DSset_scale(d, name) < 0)) {
@@ -607,9 +608,11 @@ static int label_dimensions(fpl_results *r, int chaos)
         for (int i = C_T + 1; i < C_COUNT && !bad; i++)
             bad |= H5DSattach_scale(r->c[i].d, r->c[C_T].d, 0) < 0;
     } else {
-        hid_t mode = index_scale(r->file, "mode", r->lat->n);
-        hid_t site = index_scale(r->file, "site", r->lat->n);
-        hid_t comp = r->store_states ? index_scale(r->file, "component", r->dim) : 0;
+        /* modes k = 1..N of the fixed chain, wavenumbers 0..N-1 of a ring (fputlab/modes.h) */
+        hid_t mode = index_scale(r->file, "mode", r->lat->n,
+                                 r->lat->boundary == FPL_BOUNDARY_PERIODIC ? 0 : 1);
+        hid_t site = index_scale(r->file, "site", r->lat->n, 1);
+        hid_t comp = r->store_states ? index_scale(r->file, "component", r->dim, 1) : 0;
         hid_t v = H5Dopen2(r->file, "v", H5P_DEFAULT);
         bad = mode < 0 || site < 0 || comp < 0 || v < 0 || H5DSset_scale(r->s[S_T].d, "t") < 0;
         for (int i = S_T + 1; i < S_COUNT && !bad; i++)

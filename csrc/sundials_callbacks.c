@@ -2,6 +2,7 @@
  * split fpl_sun_force / fpl_sun_velocity, Jacobians and roots. The integrator back ends that use
  * them live in files of their own (backend_arkode.c, backend_cvode.c, backend_sprk.c). */
 #include <sunmatrix/sunmatrix_band.h>
+#include <stdio.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include "fputlab/sundials.h"
 #include <float.h>
@@ -129,7 +130,9 @@ int fpl_sun_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jac, void *use
     case SUNMATRIX_BAND: {
         sunindextype mu, ml;
         if (fpl_sun_band_widths(lat, n_dev, &mu, &ml)) {
-            fpl_error(sys->errmsg, FPL_ERR_ARG, "%s", fpl_last_error());
+            char why[FPL_ERRMSG_LEN];   /* a copy: fpl_error writes the buffer it would read */
+            snprintf(why, sizeof why, "%s", fpl_last_error());
+            fpl_error(sys->errmsg, FPL_ERR_ARG, "%s", why);
             return -1;
         }
         if (SM_UBAND_B(jac) < mu || SM_LBAND_B(jac) < ml) {

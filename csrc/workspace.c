@@ -1,11 +1,10 @@
 /* The kernels' scratch for one lattice size: owned by the runs, never by the (read-only) lattice. */
 #include <stdlib.h>
-#include <gsl/gsl_fft_real.h>
 #include "internal.h"
 
 static void *xcalloc(size_t n) { return calloc(n ? n : 1, sizeof(double)); }
 
-int fpl_work_create(int n, int with_modes, fpl_work **out)
+int fpl_work_create(int n, int modes, fpl_work **out)
 {
     *out = NULL;
     fpl_work *w = calloc(1, sizeof *w);
@@ -17,14 +16,16 @@ int fpl_work_create(int n, int with_modes, fpl_work **out)
     w->dphi = xcalloc(nn + 1);
     w->fft = xcalloc(m);
     w->ek = xcalloc(nn);
-    if (with_modes) {
-        w->fft_wavetable = gsl_fft_real_wavetable_alloc(m);
-        w->fft_workspace = gsl_fft_real_workspace_alloc(m);
-    }
-    if (!w->phi || !w->kappa || !w->dphi || !w->fft || !w->ek ||
-        (with_modes && (!w->fft_wavetable || !w->fft_workspace))) {
+    if (!w->phi || !w->kappa || !w->dphi || !w->fft || !w->ek) {
         fpl_work_free(&w);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating a workspace for N = %d", n);
+    }
+    if (modes != FPL_WORK_NO_MODES) {
+        int st = fpl_rdft_create(modes == FPL_WORK_FOURIER_MODES ? nn : m, &w->rdft);
+        if (st) {
+            fpl_work_free(&w);
+            return st;
+        }
     }
     *out = w;
     return FPL_OK;
@@ -39,8 +40,7 @@ void fpl_work_free(fpl_work **work)
     free(w->dphi);
     free(w->fft);
     free(w->ek);
-    if (w->fft_wavetable) gsl_fft_real_wavetable_free(w->fft_wavetable);
-    if (w->fft_workspace) gsl_fft_real_workspace_free(w->fft_workspace);
+    fpl_rdft_free(&w->rdft);
     free(w);
     *work = NULL;
 }

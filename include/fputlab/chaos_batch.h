@@ -2,7 +2,7 @@
  *
  * R orbits of the same N, model, alpha and beta (each with its own disorder v, i.e. its own
  * lattice, and/or its own initial state) are advanced together with their deviation vectors by a
- * splitting scheme with the kinetic drift (leapfrog, yoshida4, aba864, srkn14a6). The state is
+ * splitting scheme with the kinetic drift (fpl_chaos_batch_method_name lists them). The state is
  * stored as a structure of arrays with the orbits innermost (element [j][r] = particle j of orbit
  * r, r contiguous), so that the vector units work across orbits: small lattices (N = 4 .. 16),
  * whose own loops are too short for vectors, run several times faster per orbit than with
@@ -90,6 +90,11 @@ typedef struct fpl_chaos_batch_result {
 } fpl_chaos_batch_result;
 
 typedef struct fpl_chaos_batch fpl_chaos_batch;
+
+/* The methods the batch kernel runs (the splitting schemes with the kinetic drift), in the
+ * registry's order: index 0..fpl_chaos_batch_method_count()-1; NULL for any other index. */
+FPL_API int fpl_chaos_batch_method_count(void);
+FPL_API const char *fpl_chaos_batch_method_name(int index);
 
 /* chaos: fpl_chaos_options_init's defaults (t_end NaN: must be set); compact 1. */
 FPL_API void fpl_chaos_batch_options_init(fpl_chaos_batch_options *opt);

@@ -36,7 +36,8 @@ typedef struct fpl_event_set {
     int n;
     int kind[8];
     double threshold[8];
-    int mode[8];              /* FPL_EVENT_MODE_ENERGY only: k in 1..N, or 0 for the maximum */
+    int mode[8];              /* FPL_EVENT_MODE_ENERGY only: k in 1..N (a periodic chain: the
+                                 wavenumber, 1..N-1), or 0 for the maximum */
 } fpl_event_set;
 
 /* The {lattice, criteria, workspace} of one run, for embedders of the SUNDIALS callbacks

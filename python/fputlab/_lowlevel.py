@@ -24,8 +24,9 @@ from ._native import ffi, lib
 
 __all__ = [
     "VERSION", "DT", "RTOL", "ATOL", "MAX_STEPS", "CHAOS_DEFAULTS", "CHAOS_N_ACCUMULATORS",
-    "MODEL_CODES", "BOUNDARY_CODES", "DISORDER_CODES", "EVENT_KINDS", "MAX_EVENTS", "EVENT", "ERR_NONFINITE", "ARG_ERRORS",
-    "model_name", "method_names", "method_info", "orbit_class_name",
+    "MODEL_CODES", "BOUNDARY_CODES", "DISORDER_CODES", "EVENT_KINDS", "MAX_EVENTS", "EVENT",
+    "ERR_NONFINITE", "ARG_ERRORS",
+    "model_name", "method_names", "method_info", "chaos_batch_method_names", "orbit_class_name",
     "disorder_draw", "disorder_standard", "modes_omega",
     "integrator_options", "chaos_options", "chaos_result", "chaos_batch_options", "event_set",
     "LatticeHandle", "IntegratorHandle", "ChaosHandle", "ChaosBatchHandle", "GalerkinHandle",
@@ -95,6 +96,12 @@ def model_name(code: int) -> str:
 def method_names() -> list[str]:
     """fpl_method_name for every method (fpl_method_count)."""
     return [_string(lib.fpl_method_name(i)) for i in range(lib.fpl_method_count())]
+
+
+def chaos_batch_method_names() -> list[str]:
+    """fpl_chaos_batch_method_name for every batch method (fpl_chaos_batch_method_count)."""
+    return [_string(lib.fpl_chaos_batch_method_name(i))
+            for i in range(lib.fpl_chaos_batch_method_count())]
 
 
 def method_info(method: str) -> tuple[int, bool]:
@@ -273,6 +280,12 @@ class LatticeHandle(_Handle):
     def velocity(self, y: np.ndarray) -> np.ndarray:
         out = np.empty(self.N)
         self.check(lib.fpl_lattice_velocity(self.ptr, ptr(y), ptr(out)))
+        return out
+
+    def modes_frequencies(self) -> np.ndarray:
+        """fpl_modes_frequencies: omega in the order of the mode energies."""
+        out = np.empty(self.N)
+        self.check(lib.fpl_modes_frequencies(self.ptr, ptr(out)))
         return out
 
     def modes_transform(self, x: np.ndarray, out: np.ndarray) -> None:

@@ -18,8 +18,9 @@ from ._validate import _int, _real
 from .integrate import criteria_events
 from .lattice import Lattice
 
-#: methods the batch kernel runs (splitting schemes with the kinetic drift)
-BATCH_METHODS = ("leapfrog", "yoshida4", "aba864", "srkn14a6")
+#: methods the batch kernel runs (the splitting schemes with the kinetic drift; the list is C's,
+#: fpl_chaos_batch_method_name)
+BATCH_METHODS = tuple(ll.chaos_batch_method_names())
 
 #: the C defaults of the chaos options (fpl_chaos_options_init, shared by the batch handle)
 _C = ll.CHAOS_DEFAULTS

@@ -271,7 +271,7 @@ class Run:
             data["relative_energy_error"] = variable("t", self.relative_energy_error,
                                                      "relative_energy_error")
         coords = {"t": variable("t", self.t, "t"),
-                  "mode": variable("mode", np.arange(1, lat.N + 1), "mode"),
+                  "mode": variable("mode", lat.mode_numbers, "mode"),
                   "site": variable("site", np.arange(1, lat.N + 1), "site"),
                   "v": variable("site", lat.v, "v")}
         if self.states is not None:

@@ -47,8 +47,9 @@ def _boundary_code(boundary) -> int:
 _PARAMETERS = frozenset({"N", "alpha", "beta", "model", "model_code", "tau", "seed", "disorder",
                          "boundary"})
 
-#: bytes of memory per site of a lattice (C arrays, modes, Python copies), for the estimate
-_BYTES_PER_SITE = 8 * 24
+#: bytes of memory per site of a lattice (C arrays, modes, Python copies; the mode transform's
+#: FFT scratch takes up to ~36 doubles a site where it uses Bluestein's algorithm), for the estimate
+_BYTES_PER_SITE = 8 * 60
 
 
 def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.ndarray:
@@ -168,8 +169,18 @@ class Lattice:
 
     @property
     def omega(self) -> np.ndarray:
-        """Normal-mode frequencies omega_k = 2 sin(k pi / (2(N+1))), k = 1..N."""
-        return _omega(self.N)
+        """Normal-mode frequencies in the order of `mode_energies`: omega_k = 2 sin(k pi /
+        (2(N+1))), k = 1..N (fixed ends), or omega_k = 2 sin(pi k/N), k = 0..N-1 (periodic)."""
+        if self.boundary == "fixed":
+            return _omega(self.N)
+        return self._h.modes_frequencies()
+
+    @property
+    def mode_numbers(self) -> np.ndarray:
+        """The mode index k of each column of `mode_energies`: 1..N (fixed ends, sine modes) or
+        the wavenumbers 0..N-1 (periodic; k = 0 is the centre-of-mass motion)."""
+        first = 1 if self.boundary == "fixed" else 0
+        return np.arange(first, first + self.N)
 
     def __repr__(self) -> str:
         dis = f", tau={self.tau:g}, seed={self.seed}" if self.seed is not None else ""
@@ -251,7 +262,11 @@ class Lattice:
 
     # -- modes --------------------------------------------------------------------------------
     def to_modes(self, x) -> np.ndarray:
-        """Q = A x (A^{-1} = A, so this also maps Q back to x). x of shape (N,) or (S, N)."""
+        """Q = A x (A^{-1} = A, so this also maps Q back to x). x of shape (N,) or (S, N).
+
+        Fixed ends: the sine transform A_jk = sqrt(2/(N+1)) sin(jk pi/(N+1)); periodic: the
+        orthonormal Hartley transform A_jk = N^{-1/2} (cos + sin)(2 pi jk/N), the Fourier modes
+        as real standing waves (docs/conventions.md)."""
         arr = as_float_array(x, "x", last=self.N)
         flat = arr.reshape(-1, self.N)
         out = np.empty_like(flat)
@@ -262,7 +277,9 @@ class Lattice:
     from_modes = to_modes
 
     def mode_energies(self, y) -> np.ndarray:
-        """E_k = (P_k^2 + omega_k^2 Q_k^2)/2, k = 1..N, for a state (2N,) or states (S, 2N)."""
+        """E_k = (P_k^2 + omega_k^2 Q_k^2)/2 for a state (2N,) or states (S, 2N): k = 1..N for
+        fixed ends, wavenumbers k = 0..N-1 for a periodic chain (`mode_numbers`; E_0 is the
+        kinetic energy of the centre of mass). O(N log N) for every N."""
         arr = as_float_array(y, "y", last=2 * self.N)
         flat = arr.reshape(-1, 2 * self.N)
         out = np.empty((flat.shape[0], self.N))
@@ -272,7 +289,8 @@ class Lattice:
 
     def mode_state(self, k: int = 1, amplitude: float = 1.0, coupled: bool = False) -> np.ndarray:
         """Single-mode state: x_j = amplitude sin(pi k j/(N+1)), p = 0 (paper Eq. initxi for k = 1,
-        amplitude 1). coupled=True puts the sine in v_j x_j instead (model 2's smooth mode)."""
+        amplitude 1); periodic: x_j = amplitude sin(2 pi k j/N + pi/4), k = 1..N-1, the single
+        Hartley mode k. coupled=True puts the shape in v_j x_j instead (model 2's smooth mode)."""
         return self._h.initial_state(_int(k, "k"), _real(amplitude, "amplitude"), bool(coupled))
 
     # -- integration: Lattice.integrate(t_end, ...) = fputlab.integrate(lattice, t_end, ...) is

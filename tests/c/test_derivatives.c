@@ -8,19 +8,28 @@
 
 static double rel_err(double a, double b, double scale) { return fabs(a - b) / (fabs(b) + scale); }
 
-/* Paper Eqs. (eqnmotions), (dis1), (varnonlin) plus the quartic term, written from scratch:
- * returns x_j'' for j = 1..n. */
+/* Paper Eqs. (eqnmotions), (dis1), (varnonlin) plus the quartic term, and the Toda chain
+ * (model 4), written from scratch: returns x_j'' for j = 1..n; ring: the neighbours of the end
+ * particles are each other (periodic boundaries), else the fixed walls. */
 static void paper_acceleration(int model, int n, double a, double b, const double *v,
-                               const double *x, double *acc)
+                               const double *x, double *acc, int ring)
 {
     double X[NMAX + 2], V[NMAX + 2];
     X[0] = X[n + 1] = 0.0;
     V[0] = V[n + 1] = 1.0;
     for (int j = 1; j <= n; j++) { X[j] = x[j - 1]; V[j] = v[j - 1]; }
+    if (ring) {
+        X[0] = X[n];
+        V[0] = V[n];
+        X[n + 1] = X[1];
+        V[n + 1] = V[1];
+    }
     for (int j = 1; j <= n; j++) {
         double dr = X[j + 1] - X[j], dl = X[j] - X[j - 1];
         double rr = V[j + 1] * X[j + 1] - V[j] * X[j], rl = V[j] * X[j] - V[j - 1] * X[j - 1];
-        if (model == 1)
+        if (model == 4)
+            acc[j - 1] = (exp(2 * a * dr) - exp(2 * a * dl)) / (2 * a);
+        else if (model == 1)
             acc[j - 1] = dr + a * dr * dr + b * dr * dr * dr - dl - a * dl * dl - b * dl * dl * dl;
         else if (model == 2)
             acc[j - 1] = rr + a * rr * rr + b * rr * rr * rr - rl - a * rl * rl - b * rl * rl * rl;
@@ -29,23 +38,25 @@ static void paper_acceleration(int model, int n, double a, double b, const doubl
     }
 }
 
-static void test_model(int model, int n, double beta)
+static void test_model(int model, int n, double beta, int boundary)
 {
     double v[NMAX], y[6 * NMAX], f[NMAX], acc[NMAX], yd[6 * NMAX];
-    for (int j = 0; j < n; j++) v[j] = 1.0 + 0.2 * check_uniform();
+    const int ring = boundary == FPL_BOUNDARY_PERIODIC;
+    for (int j = 0; j < n; j++) v[j] = model == 4 ? 1.0 : 1.0 + 0.2 * check_uniform();
     fpl_lattice *lat = NULL;
-    CHECK_OK(fpl_lattice_create(n, 0.25, beta, model, v, &lat));
+    CHECK_OK(fpl_lattice_create_ex(n, 0.25, beta, model, v, boundary, &lat));
+    CHECK(fpl_lattice_boundary(lat) == boundary, "boundary %d not kept", boundary);
     if (!lat) return;
     const int n_dev = 2, dim = 2 * n * (1 + n_dev);
     for (int i = 0; i < dim; i++) y[i] = 0.4 * check_uniform();
 
     /* force equals the paper's acceleration times the mass */
     CHECK_OK(fpl_lattice_force(lat, y, f));
-    paper_acceleration(model, n, 0.25, beta, v, y, acc);
+    paper_acceleration(model, n, 0.25, beta, v, y, acc, ring);
     for (int i = 0; i < n; i++) {
         double mass = model == 2 ? v[i] : 1.0;
-        CHECK(rel_err(f[i], mass * acc[i], 1e-12) < 1e-12, "model %d force[%d] %g vs paper %g",
-              model, i, f[i], mass * acc[i]);
+        CHECK(rel_err(f[i], mass * acc[i], 1e-12) < 1e-12, "model %d ring %d force[%d] %g vs "
+              "paper %g", model, ring, i, f[i], mass * acc[i]);
     }
 
     /* dense Jacobian of the extended system (orbit + 2 vectors) vs central differences of rhs */
@@ -67,14 +78,16 @@ static void test_model(int model, int n, double beta)
             if (e > worst) worst = e;
         }
     }
-    CHECK(worst < 1e-8, "model %d N %d beta %g: dense Jacobian vs FD max error %g", model, n,
-          beta, worst);
+    CHECK(worst < 1e-8, "model %d N %d beta %g ring %d: dense Jacobian vs FD max error %g",
+          model, n, beta, ring, worst);
 
-    /* tridiagonal force Jacobian vs FD of the force */
+    /* tridiagonal force Jacobian vs FD of the force (a ring's is not tridiagonal: refused) */
     double lo[NMAX], di[NMAX], up[NMAX], xp[NMAX], xm[NMAX], ffp[NMAX], ffm[NMAX];
-    CHECK_OK(fpl_lattice_force_jacobian(lat, y, lo, di, up));
+    if (ring) CHECK(fpl_lattice_force_jacobian(lat, y, lo, di, up) == FPL_ERR_ARG &&
+                    strstr(fpl_last_error(), "boundary"), "ring: tridiagonal Jacobian not refused");
+    else CHECK_OK(fpl_lattice_force_jacobian(lat, y, lo, di, up));
     worst = 0.0;
-    for (int c = 0; c < n; c++) {
+    for (int c = 0; c < n && !ring; c++) {
         memcpy(xp, y, sizeof(double) * n);
         memcpy(xm, y, sizeof(double) * n);
         xp[c] += h;
@@ -157,13 +170,35 @@ static void test_unit_variability(void)
     }
 }
 
+static void test_toda_refusals(void)
+{
+    fpl_lattice *lat = NULL;
+    double v[4] = {1.0, 1.0, 1.1, 1.0};
+    CHECK(fpl_lattice_create(4, 0.25, 0.1, FPL_MODEL_TODA, NULL, &lat) == FPL_ERR_ARG &&
+          strstr(fpl_last_error(), "beta"), "Toda with beta != 0 not refused");
+    CHECK(fpl_lattice_create(4, 0.0, 0.0, FPL_MODEL_TODA, NULL, &lat) == FPL_ERR_ARG &&
+          strstr(fpl_last_error(), "alpha"), "Toda with alpha = 0 not refused");
+    CHECK(fpl_lattice_create(4, 0.25, 0.0, FPL_MODEL_TODA, v, &lat) == FPL_ERR_ARG &&
+          strstr(fpl_last_error(), "v[2]"), "Toda with disorder not refused");
+    CHECK(fpl_lattice_create_ex(4, 0.25, 0.0, 1, NULL, 2, &lat) == FPL_ERR_ARG &&
+          strstr(fpl_last_error(), "boundary"), "unknown boundary not refused");
+    CHECK(lat == NULL, "no lattice on error");
+    CHECK(fpl_lattice_boundary(NULL) == -1, "boundary of NULL");
+}
+
 int main(void)
 {
-    for (int model = 1; model <= 3; model++) {
-        test_model(model, 8, 0.0);
-        test_model(model, 17, 0.3);
-        test_model(model, 2, 0.0);
+    for (int boundary = FPL_BOUNDARY_FIXED; boundary <= FPL_BOUNDARY_PERIODIC; boundary++) {
+        for (int model = 1; model <= 3; model++) {
+            test_model(model, 8, 0.0, boundary);
+            test_model(model, 17, 0.3, boundary);
+            test_model(model, 2, 0.0, boundary);
+        }
+        test_model(FPL_MODEL_TODA, 8, 0.0, boundary);
+        test_model(FPL_MODEL_TODA, 2, 0.0, boundary);
+        test_model(FPL_MODEL_TODA, 17, 0.0, boundary);
     }
+    test_toda_refusals();
     test_unit_variability();
     return check_report("derivatives");
 }

@@ -89,10 +89,51 @@ static void test_initial_condition(void)
     }
 }
 
+/* The ring's modes: the orthonormal Hartley transform against its explicit matrix, A A = I,
+ * and mode energies against the explicit sum (sizes with a large prime factor go through
+ * Bluestein's algorithm, the others through GSL's mixed radix). */
+static void test_ring(int n)
+{
+    fpl_lattice *lat = NULL;
+    CHECK_OK(fpl_lattice_create_ex(n, 0.25, 0.0, 1, NULL, FPL_BOUNDARY_PERIODIC, &lat));
+    double *y = calloc(2 * (size_t)n, sizeof *y), *q = calloc(n, sizeof *q);
+    double *back = calloc(n, sizeof *back), *e = calloc(n, sizeof *e), *w = calloc(n, sizeof *w);
+    for (int j = 0; j < 2 * n; j++) y[j] = check_uniform();
+    CHECK_OK(fpl_modes_transform(lat, y, q));
+    CHECK_OK(fpl_modes_transform(lat, q, back));
+    CHECK_OK(fpl_modes_energies(lat, y, e));
+    CHECK_OK(fpl_modes_frequencies(lat, w));
+    double worst = 0.0, worst_e = 0.0, worst_back = 0.0, emax = 0.0;
+    for (int k = 0; k < n; k++) {
+        double qx = 0.0, qp = 0.0;
+        for (int j = 0; j < n; j++) {
+            const double th = 2.0 * M_PI * (double)(((long)j * k) % n) / n;
+            const double cas = (cos(th) + sin(th)) / sqrt((double)n);
+            qx += cas * y[j];
+            qp += cas * y[n + j];
+        }
+        const double wk = 2.0 * sin(M_PI * k / n);
+        const double ek = 0.5 * (qp * qp + wk * wk * qx * qx);
+        worst = fmax(worst, fabs(qx - q[k]));
+        worst_e = fmax(worst_e, fabs(ek - e[k]));
+        emax = fmax(emax, ek);
+        worst_back = fmax(worst_back, fabs(back[k] - y[k]));
+        CHECK(fabs(w[k] - wk) < 1e-15, "ring N %d: omega_%d %g vs %g", n, k, w[k], wk);
+    }
+    CHECK(worst < 1e-12 * sqrt(n), "ring N %d: FFT Hartley transform vs explicit: %g", n, worst);
+    CHECK(worst_e < 1e-12 * emax, "ring N %d: mode energies vs explicit: %g", n, worst_e);
+    CHECK(worst_back < 1e-12, "ring N %d: A A != I (%g)", n, worst_back);
+    free(y); free(q); free(back); free(e); free(w);
+    fpl_lattice_free(&lat);
+}
+
 int main(void)
 {
-    int sizes[] = {2, 3, 8, 63, 64, 100, 4096};
+    /* 102, 1020: N + 1 prime, the sine transform's length 2(N+1) goes through Bluestein */
+    int sizes[] = {2, 3, 8, 63, 64, 100, 102, 1020, 4096};
     for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) test_transform(sizes[i]);
+    int ring_sizes[] = {2, 3, 4, 7, 64, 211, 998, 1021};
+    for (size_t i = 0; i < sizeof ring_sizes / sizeof ring_sizes[0]; i++) test_ring(ring_sizes[i]);
     test_energies();
     test_initial_condition();
     return check_report("modes");

@@ -130,6 +130,41 @@ static void test_versions(void)
     printf("fputlab %s (headers %s), SUNDIALS %s\n", fpl_version(), v, fpl_sundials_version());
 }
 
+/* A ring: the dense Jacobian through the callback equals fpl_lattice_jacobian_dense (whose
+ * entries test_derivatives checks against finite differences); band matrices are refused with a
+ * message, since the wrap-around bond couples x_0 and x_{N-1}. */
+static void test_ring_jacobian(SUNContext ctx)
+{
+    const int n = 6, n_dev = 1, dim = 2 * n * (1 + n_dev);
+    fpl_lattice *lat = NULL;
+    CHECK_OK(fpl_lattice_create_ex(n, 0.25, 0.1, FPL_MODEL_HOMOGENEOUS, NULL,
+                                   FPL_BOUNDARY_PERIODIC, &lat));
+    fpl_system *sys = NULL;
+    CHECK_OK(fpl_system_create(lat, NULL, &sys));
+    N_Vector y = N_VNew_Serial(dim, ctx), yd = N_VNew_Serial(dim, ctx);
+    for (int i = 0; i < dim; i++) N_VGetArrayPointer(y)[i] = 0.3 * check_uniform();
+    static double jac[24 * 24];
+    CHECK_OK(fpl_lattice_jacobian_dense(lat, N_VGetArrayPointer(y), n_dev, jac));
+    SUNMatrix D = SUNDenseMatrix(dim, dim, ctx);
+    CHECK(fpl_sun_jac(0.0, y, yd, D, sys, NULL, NULL, NULL) == 0, "ring: dense jac");
+    for (int r = 0; r < dim; r++)
+        for (int c = 0; c < dim; c++)
+            CHECK(SM_ELEMENT_D(D, r, c) == jac[r * dim + c], "ring: dense (%d,%d)", r, c);
+    CHECK(jac[n * dim + (n - 1)] != 0.0, "ring: dF_0/dx_{N-1} is the wrap-around coupling");
+    sunindextype mu = 0, ml = 0;
+    CHECK(fpl_sun_band_widths(lat, n_dev, &mu, &ml) == FPL_ERR_ARG &&
+          strstr(fpl_last_error(), "not banded"), "ring: band widths not refused");
+    SUNMatrix B = SUNBandMatrix(dim, dim - 1, dim - 1, ctx);
+    CHECK(fpl_sun_jac(0.0, y, yd, B, sys, NULL, NULL, NULL) == -1 &&
+          strstr(fpl_system_errmsg(sys), "not banded"), "ring: band jac not refused");
+    SUNMatDestroy(D);
+    SUNMatDestroy(B);
+    N_VDestroy(y);
+    N_VDestroy(yd);
+    fpl_system_free(&sys);
+    fpl_lattice_free(&lat);
+}
+
 int main(void)
 {
     test_versions();
@@ -138,6 +173,7 @@ int main(void)
     test_callbacks(ctx);
     test_cvode(ctx, 0);
     test_cvode(ctx, 1);
+    test_ring_jacobian(ctx);
     SUNContext_Free(&ctx);
     return check_report("sundials");
 }

@@ -154,6 +154,9 @@ def two_mode_coefficients(N=64, alpha: float = 0.25, v=None, *,
     """
     if isinstance(N, Lattice):
         lat = N
+        if lat.boundary != "fixed":
+            raise ValueError("N: the two-mode reduction uses the fixed-end chain's sine modes; "
+                             f"this lattice is {lat.boundary}")
         N, alpha, code, v = lat.N, lat.alpha, lat.model_code, lat.v
     else:
         N = _int(N, "N")
