@@ -10,9 +10,13 @@ import numpy as np
 
 from ._figure import save
 
-#: the published exponent a of T_eq ~ eps^-a for each built-in study's model
-PUBLISHED = {"alpha": (8.0, "Onorato et al. 2015: $\\varepsilon^{-8}$"),
-             "beta": (4.0, "Lvov & Onorato 2018: $\\varepsilon^{-4}$ (small $\\varepsilon$)")}
+#: the published exponents a of T_eq ~ eps^-a for the built-in studies: (eps range or None for
+#: all points, a, legend)
+PUBLISHED = {
+    "alpha": [(None, 8.0, "Onorato et al. 2015: $\\varepsilon^{-8}$")],
+    "beta": [((0.0, 0.07), 4.0, "Lvov & Onorato 2018: $\\varepsilon^{-4}$ (small $\\varepsilon$)"),
+             ((0.1, 0.5), 2.0, "Lvov & Onorato 2018: $\\varepsilon^{-2}$ (past the overlap)")],
+}
 
 
 def thermalization_figure(results: list, path: str, *, title: str | None = None):
@@ -53,14 +57,17 @@ def thermalization_figure(results: list, path: str, *, title: str | None = None)
         if nb.any():
             ax.plot(eps[nb], reached[nb], "^", mfc="none", color=c,
                     label=f"{label}: no crossing by the time shown")
+        range_fits = res.get("range_fits", [])
         if fit is not None:
             xs = np.geomspace(eps[ok].min(), eps[ok].max(), 20)
             a, (alo, ahi) = fit["exponent"], fit["interval"]
             ival = "" if not math.isfinite(alo) else f" [{alo:.1f}, {ahi:.1f}]"
+            # with range fits the all-points line is only a guide: drawn thin
             ax.plot(xs, fit["prefactor"] * xs ** -a, "-", color=c,
+                    lw=0.8 if range_fits else 1.5, alpha=0.5 if range_fits else 1.0,
                     label=f"fit: $T_{{eq}} \\propto \\varepsilon^{{-{a:.2f}}}$ {ival}")
             numbers[label] = fit
-        for k, rf in enumerate(res.get("range_fits", [])):
+        for k, rf in enumerate(range_fits):
             sel = ok & (eps >= rf["range"][0]) & (eps <= rf["range"][1])
             if sel.sum() < 2:
                 continue
@@ -71,11 +78,15 @@ def thermalization_figure(results: list, path: str, *, title: str | None = None)
                     label=f"fit over {rf['range'][0]:g}-{rf['range'][1]:g}: "
                           f"$\\varepsilon^{{-{a:.2f}}}$ {ival}")
             numbers[f"{label} {rf['range'][0]:g}-{rf['range'][1]:g}"] = rf
-            if label in PUBLISHED:
-                ap, text = PUBLISHED[label]
-                xm = math.exp(np.log(eps[ok]).mean())
-                ym = math.exp(np.log(teq[ok]).mean())
-                ax.plot(xs, ym * (xs / xm) ** -ap, "--", color="0.4", label=text)
+        for rng, ap, text in PUBLISHED.get(label, []):
+            sel = ok if rng is None else ok & (eps >= rng[0]) & (eps <= rng[1])
+            if sel.sum() < 2:
+                continue
+            # the published slope through the geometric mean of the points it applies to
+            xs = np.geomspace(eps[sel].min(), eps[sel].max(), 10)
+            xm = math.exp(np.log(eps[sel]).mean())
+            ym = math.exp(np.log(teq[sel]).mean())
+            ax.plot(xs, ym * (xs / xm) ** -ap, "--", color="0.4", label=text)
         shades = plt.get_cmap("viridis")(np.linspace(0, 0.85, max(len(pts), 1)))
         for j, p in enumerate(pts):
             if "eta" in p and len(p["eta"]) > 1:
