@@ -159,11 +159,11 @@ STUDIES = {
 
 
 def _disorder_study(model: str, tau: float) -> tuple[str, ThermalizationSpec]:
-    """Models 2 and 3 (one disorder draw per orbit) at the alpha study's two largest-but-safe
-    eps, for a T_eq to set beside the homogeneous chain's."""
+    """Models 2 and 3 (one disorder draw per orbit) at eps of the alpha study, for T_eq and
+    its exponent to set beside the homogeneous chain's."""
     label = f"disorder-{model}-{tau:g}"
-    return label, ThermalizationSpec(label=label, model=model, tau=tau, eps=(0.1, 0.08),
-                                     t_max=3.2e6)
+    return label, ThermalizationSpec(label=label, model=model, tau=tau,
+                                     eps=(0.1, 0.08, 0.07, 0.06), t_max=3.2e6)
 
 
 STUDIES.update(_disorder_study(m, t) for m in ("nonlinear", "hamiltonian") for t in (5.0, 10.0))
