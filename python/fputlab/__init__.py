@@ -11,11 +11,13 @@ from .integrate import Integrator, Run, integrate, iter_samples, method_info, me
 from . import analysis, blowup, chaos
 from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
 from .modes import mode_matrix, omega
-from . import reduction
+from .initial_states import mode_excitation, random_phases, thermal
+from . import reduction, thermalization
 from . import io
 from .io import load
 
 __all__ = ["Lattice", "draw_disorder", "integrate", "iter_samples", "Integrator", "methods",
-           "method_info", "Run", "omega", "mode_matrix",
+           "method_info", "Run", "omega", "mode_matrix", "mode_excitation", "random_phases",
+           "thermal",
            "MODELS", "DISORDERS", "load", "FputlabError", "IntegrationError", "Interrupted",
            "__version__"]

@@ -17,11 +17,12 @@ LAYERS = [
     ("private helpers", {"_native", "_errors", "_arrays", "_validate", "_display", "_figure",
                          "_engine", "io.atomic", "io.store"}),
     ("low level", {"_lowlevel", "_pacing", "engine"}),
-    ("model", {"lattice", "modes"}),
+    ("model", {"lattice", "modes", "initial_states"}),
     ("integrate", {"integrate"}),
-    ("analysis", {"analysis", "chaos", "chaos_batch", "blowup", "reduction"}),
-    ("files and ensembles", {"io", "ensemble", "study"}),
-    ("plots and figures", {"plotting", "figures", "figures_reduction", "demo"}),
+    ("analysis", {"analysis", "chaos", "chaos_batch", "blowup", "reduction", "thermalization"}),
+    ("files and ensembles", {"io", "ensemble", "study", "thermalization_study"}),
+    ("plots and figures", {"plotting", "figures", "figures_reduction", "demo",
+                           "figures_thermalization"}),
     ("interface", {"cli", "__main__", ""}),       # "": the package itself (fputlab/__init__.py)
 ]
 #: modules allowed to import the cffi extension (`lib`, `ffi`)

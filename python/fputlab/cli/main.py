@@ -13,10 +13,17 @@ from .reduction import _parser_bifurcation, _parser_coefficients, _parser_tauc
 from .simulate import _parser_simulate
 from .spectrum import _parser_spectrum
 from .sweep import _parser_sweep
+from .parsers import _DefaultsFormatter
+
+
+def _parser_thermalization(sub, parents):
+    from .thermalization import add_parser
+    add_parser(sub, _DefaultsFormatter)
+
 
 SUBCOMMANDS = (_parser_demo, _parser_simulate, _parser_blowup, _parser_chaos, _parser_spectrum,
                _parser_sweep, _parser_coefficients, _parser_tauc, _parser_bifurcation,
-               _parser_figures, _parser_methods)
+               _parser_figures, _parser_methods, _parser_thermalization)
 
 
 def build_parser():

@@ -1,0 +1,112 @@
+"""The thermalization figure: T_eq against eps on log-log axes with the bootstrap intervals,
+the fitted power law and its exponent interval, the published law for comparison, and the
+ensemble eta(t) of every point (paper style: Onorato et al. 2015, Fig. 4; Lvov & Onorato
+2018, Fig. 2)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._figure import save
+
+#: the published exponents a of T_eq ~ eps^-a for the built-in studies: (eps range or None for
+#: all points, a, legend)
+PUBLISHED = {
+    "alpha": [(None, 8.0, "Onorato et al. 2015: $\\varepsilon^{-8}$")],
+    "beta": [((0.0, 0.07), 4.0, "Lvov & Onorato 2018: $\\varepsilon^{-4}$ (small $\\varepsilon$)"),
+             ((0.1, 0.5), 2.0, "Lvov & Onorato 2018: $\\varepsilon^{-2}$ (past the overlap)")],
+}
+
+
+def thermalization_figure(results: list, path: str, *, title: str | None = None):
+    """Write the figure for one or more studies' `ThermalizationStudy.results()` to `path`.
+
+    Left: T_eq(eps) with 90 % bootstrap intervals; points that never crossed are drawn as
+    lower bounds at the time reached (open triangles); each study's fitted line is labelled
+    with its exponent and interval, and the published slope is drawn through the fit's middle
+    point. Right: the ensemble eta(t) of every point, with the threshold.
+
+    Returns
+    -------
+    fputlab._figure.Figure
+        The path, with ``numbers`` = {label: fit dict}.
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    numbers = {}
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for i, res in enumerate(results):
+        spec, pts, fit = res["spec"], res["points"], res["fit"]
+        label = spec["label"]
+        c = colours[i % len(colours)]
+        eps = np.array([p["eps"] for p in pts])
+        teq = np.array([p["t_eq"] for p in pts])
+        ok = np.isfinite(teq)
+        lo = np.array([p["interval"][0] for p in pts])
+        hi = np.array([p["interval"][1] for p in pts])
+        err = np.vstack([np.where(np.isfinite(lo), teq - lo, 0), np.where(np.isfinite(hi),
+                                                                           hi - teq, 0)])
+        ax.errorbar(eps[ok], teq[ok], yerr=err[:, ok], fmt="o", color=c, capsize=3,
+                    label=f"{label} (N = {spec['N']}, {spec['orbits']} orbits)")
+        reached = np.array([p["t_reached"] for p in pts])
+        nb = ~ok & (reached > 0)
+        if nb.any():
+            ax.plot(eps[nb], reached[nb], "^", mfc="none", color=c,
+                    label=f"{label}: no crossing by the time shown")
+        range_fits = res.get("range_fits", [])
+        if fit is not None:
+            xs = np.geomspace(eps[ok].min(), eps[ok].max(), 20)
+            a, (alo, ahi) = fit["exponent"], fit["interval"]
+            ival = "" if not math.isfinite(alo) else f" [{alo:.1f}, {ahi:.1f}]"
+            # with range fits the all-points line is only a guide: drawn thin
+            ax.plot(xs, fit["prefactor"] * xs ** -a, "-", color=c,
+                    lw=0.8 if range_fits else 1.5, alpha=0.5 if range_fits else 1.0,
+                    label=f"fit: $T_{{eq}} \\propto \\varepsilon^{{-{a:.2f}}}$ {ival}")
+            numbers[label] = fit
+        for k, rf in enumerate(range_fits):
+            sel = ok & (eps >= rf["range"][0]) & (eps <= rf["range"][1])
+            if sel.sum() < 2:
+                continue
+            xs = np.geomspace(eps[sel].min(), eps[sel].max(), 10)
+            a, (alo, ahi) = rf["exponent"], rf["interval"]
+            ival = "" if not math.isfinite(alo) else f" [{alo:.1f}, {ahi:.1f}]"
+            ax.plot(xs, rf["prefactor"] * xs ** -a, ":" if k % 2 else "-.", color=c, lw=2,
+                    label=f"fit over {rf['range'][0]:g}-{rf['range'][1]:g}: "
+                          f"$\\varepsilon^{{-{a:.2f}}}$ {ival}")
+            numbers[f"{label} {rf['range'][0]:g}-{rf['range'][1]:g}"] = rf
+        for rng, ap, text in PUBLISHED.get(label, []):
+            sel = ok if rng is None else ok & (eps >= rng[0]) & (eps <= rng[1])
+            if sel.sum() < 2:
+                continue
+            # the published slope through the geometric mean of the points it applies to
+            xs = np.geomspace(eps[sel].min(), eps[sel].max(), 10)
+            xm = math.exp(np.log(eps[sel]).mean())
+            ym = math.exp(np.log(teq[sel]).mean())
+            ax.plot(xs, ym * (xs / xm) ** -ap, "--", color="0.4", label=text)
+        shades = plt.get_cmap("viridis")(np.linspace(0, 0.85, max(len(pts), 1)))
+        for j, p in enumerate(pts):
+            if "eta" in p and len(p["eta"]) > 1:
+                # one study: a colour per eps, labelled; several: a colour per study
+                col = shades[j] if len(results) == 1 else c
+                lab = f"$\\varepsilon$ = {p['eps']:g}" if len(results) == 1 else None
+                ax2.semilogx(p["t"][1:], p["eta"][1:], color=col, alpha=0.9, lw=1, label=lab)
+        if pts:
+            ax2.axhline(spec["threshold"], color="k", lw=0.8, ls=":")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("$\\varepsilon$")
+    ax.set_ylabel("$T_{eq}$")
+    ax.legend(fontsize=7)
+    ax2.set_xlabel("t")
+    ax2.set_ylabel("ensemble $\\eta(t)$")
+    ax2.set_ylim(0, 1.05)
+    if len(results) == 1:
+        ax2.legend(fontsize=7)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    return save(fig, path, numbers)
