@@ -36,6 +36,7 @@ __all__ = ["StudySpec", "StudyKind", "StudyResult", "KINDS", "get_kind", "run_st
 #: the study kinds: name -> "module:attribute" of its StudyKind. One line per kind.
 KINDS = {
     "chaos": "fputlab.chaos.ensemble:CHAOS_KIND",
+    "recurrence": "fputlab.recurrence:RECURRENCE_KIND",
     "spectrum": "fputlab.chaos.spectrum:SPECTRUM_KIND",
 }
 

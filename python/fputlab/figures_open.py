@@ -1,0 +1,378 @@
+"""Beyond the paper: the figures of its two open questions (issue 25).
+
+1. Is the rise of chaos with N monotone? Model 3 (Eq. varnonlin), alpha = 0.25, tau = 10 %,
+   the mode-1 initial state, 100 realisations for each N = 4 ... 128: the fraction chaotic /
+   blown up / regular with Wilson 95 % intervals against N at several times, of all orbits and
+   of those that did not blow up (blow-ups compete with chaos), and the survival curves.
+   The same question at a fixed fraction (0.5 and 0.9) of each size's own threshold tau_c(N).
+2. The Hamiltonian disorder (model 2, Eqs. dis1/Hamilt2mod): its chaos study against model 3's,
+   and the recurrence quality against tau for both models.
+3. An (N, tau) phase diagram of model 3 at t = 1e6 with the two-mode theory's tau_c(N).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .chaos.outcomes import (OrbitOutcomes, cumulative_incidence, monotonicity,
+                             outcome_table, outcomes_from_dataset)
+from .recurrence import recurrence_quality, recurrence_time
+
+_CLASS_COLOURS = {"chaotic": "#c0392b", "regular": "#2471a3", "blow-up": "#7f8c8d",
+                  "undecided": "#f5b041"}
+
+
+def _fraction_axes(ax, rows, key, label, colour, marker, offset=0.0):
+    rows = [r for r in rows if np.isfinite(r[key])]
+    N = np.array([r["N"] for r in rows], float)
+    f = np.array([r[key] for r in rows])
+    lo = np.array([r[key + "_low"] for r in rows])
+    hi = np.array([r[key + "_high"] for r in rows])
+    ax.errorbar(N * (1 + offset), f, yerr=[np.maximum(f - lo, 0), np.maximum(hi - f, 0)], color=colour, marker=marker, ms=5,
+                capsize=3, lw=1.2, label=label)
+
+
+def plot_fraction_vs_N(ax, rows_by_t: dict, key: str, title: str):
+    """Fraction `key` against N (log axis) at each time of rows_by_t ({t: rows})."""
+    colours = ["#fdae6b", "#e6550d", "#a63603", "#54278f"]
+    markers = ["o", "s", "D", "^"]
+    for i, (t, rows) in enumerate(sorted(rows_by_t.items())):
+        _fraction_axes(ax, rows, key, f"t = 10$^{{{int(round(math.log10(t)))}}}$",
+                       colours[i % 4], markers[i % 4], offset=0.03 * (i - 1))
+    ax.set_xscale("log", base=2)
+    Ns = sorted({r["N"] for rows in rows_by_t.values() for r in rows})
+    ax.set_xticks(Ns, [str(n) for n in Ns])
+    ax.minorticks_off()
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xlabel("number of particles N")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+
+
+def plot_survival(ax, outcomes, t):
+    """Fraction of each N's orbits still neither chaotic nor blown up against t (solid), and the
+    cumulative incidence of blow-up (dotted), on a log time axis."""
+    import matplotlib.pyplot as plt
+    Ns = np.unique(outcomes.N)
+    cmap = plt.get_cmap("viridis")
+    for i, N in enumerate(Ns):
+        surv, chaos, blow = cumulative_incidence(outcomes, int(N), t)
+        c = cmap(i / max(1, len(Ns) - 1))
+        ax.plot(t, surv, color=c, lw=1.5, label=f"N = {N}")
+        if np.nanmax(blow) > 0:
+            ax.plot(t, blow, color=c, lw=1.0, ls=":")
+    ax.set_xscale("log")
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xlabel("time t")
+    ax.set_ylabel("fraction of orbits")
+    ax.set_title("still regular (solid) and blown up (dotted)")
+    ax.grid(alpha=0.3)
+
+
+def fig_monotone(outcomes, t_evals, path, *, reference=None):
+    """The monotonicity figure: chaotic fraction of all orbits and of those that did not blow
+    up, blow-up fraction against N at the times t_evals, and the survival curves."""
+    import matplotlib.pyplot as plt
+    rows = outcome_table(outcomes, t_evals)
+    by_t = {t: [r for r in rows if r["t"] == t and r["n"] > 0] for t in t_evals}
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8), constrained_layout=True)
+    plot_fraction_vs_N(axes[0, 0], by_t, "fraction_chaotic", "(a) chaotic, of all orbits")
+    plot_fraction_vs_N(axes[0, 1], by_t, "fraction_chaotic_given_no_blowup",
+                       "(b) chaotic, of the orbits that did not blow up")
+    plot_fraction_vs_N(axes[1, 0], by_t, "fraction_blowup", "(c) blown up")
+    axes[0, 0].set_ylabel("fraction (Wilson 95 % interval)")
+    axes[1, 0].set_ylabel("fraction (Wilson 95 % interval)")
+    if reference is not None:   # the paper's set-up: 30 realisations to 1e8 (studies/fig12_14)
+        ref_rows = [r for r in outcome_table(reference, [1e8]) if r["n"] > 0]
+        for ax, key in ((axes[0, 0], "fraction_chaotic"),
+                        (axes[0, 1], "fraction_chaotic_given_no_blowup"),
+                        (axes[1, 0], "fraction_blowup")):
+            _fraction_axes(ax, ref_rows, key, "t = 10$^8$ (30 realisations)", "k", "x", 0.06)
+    axes[0, 0].legend(loc="upper left", fontsize=8)
+    t = np.logspace(3, math.log10(max(t_evals)), 200)
+    plot_survival(axes[1, 1], outcomes, t)
+    axes[1, 1].legend(loc="lower left", fontsize=7, ncol=2)
+    fig.suptitle("Model 3, alpha = 0.25, tau = 10 %: is the rise of chaos with N monotone?")
+    return fig, rows
+
+
+def fig_threshold(outcomes_by_fraction: dict, t_eval: float, path, *, tau_c: dict):
+    """The monotonicity question at a fixed fraction of each size's own threshold: fraction
+    chaotic and blown up against N at tau = f tau_c(N), one column per f."""
+    import matplotlib.pyplot as plt
+    fracs = sorted(outcomes_by_fraction)
+    fig, axes = plt.subplots(1, len(fracs), figsize=(5 * len(fracs), 4), squeeze=False,
+                             constrained_layout=True)
+    rows_all = {}
+    for ax, f in zip(axes[0], fracs):
+        rows = [r for r in outcome_table(outcomes_by_fraction[f], [t_eval]) if r["n"] > 0]
+        rows_all[f] = rows
+        _fraction_axes(ax, rows, "fraction_chaotic", "chaotic", _CLASS_COLOURS["chaotic"], "o")
+        _fraction_axes(ax, rows, "fraction_blowup", "blown up", _CLASS_COLOURS["blow-up"], "s",
+                       0.03)
+        Ns = [r["N"] for r in rows]
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(Ns, [f"{n}\n{f * tau_c[n]:.1f} %" for n in Ns])
+        ax.minorticks_off()
+        ax.set_ylim(-0.03, 1.03)
+        ax.set_xlabel("N (and its tau = f tau_c(N))")
+        ax.set_title(f"tau = {f:g} tau_c(N), t = 10$^{{{int(round(math.log10(t_eval)))}}}$")
+        ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("fraction (Wilson 95 % interval)")
+    axes[0, 0].legend(loc="upper left", fontsize=8)
+    fig.suptitle("Model 3 below its own blow-up threshold: chaos against N")
+    return fig, rows_all
+
+
+def fig_models(outcomes_m3, outcomes_m2, t_evals, path):
+    """Model 2 (Hamiltonian disorder) against model 3 at tau = 10 %: fraction chaotic and blown
+    up against N."""
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    rows = {}
+    for ax, (name, o) in zip(axes, (("model 3 (nonlinear couplings)", outcomes_m3),
+                                    ("model 2 (Hamiltonian)", outcomes_m2))):
+        r = outcome_table(o, t_evals)
+        rows[name] = r
+        by_t = {t: [x for x in r if x["t"] == t and x["n"] > 0] for t in t_evals}
+        plot_fraction_vs_N(ax, by_t, "fraction_chaotic", f"{name}: chaotic")
+        last = by_t[max(t_evals)]
+        _fraction_axes(ax, last, "fraction_blowup", "blown up (last t)",
+                       _CLASS_COLOURS["blow-up"], "s", 0.06)
+        ax.legend(loc="upper left", fontsize=8)
+    axes[0].set_ylabel("fraction (Wilson 95 % interval)")
+    fig.suptitle("tau = 10 %: the Hamiltonian disorder against the paper's model 3")
+    return fig, rows
+
+
+def fig_recurrence(table: dict, path):
+    """Recurrence quality (peak share of mode 1 at the ordered chain's first recurrence) and
+    the depth of the energy sharing before it, against tau, for models 2 and 3: median and
+    quartiles over the realisations; blow-ups counted apart."""
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4), constrained_layout=True)
+    style = {"nonlinear": ("model 3", "#c0392b", "o"), "hamiltonian": ("model 2", "#2471a3", "s")}
+    for model, d in table.items():
+        label, colour, marker = style[model]
+        taus = np.asarray(d["tau"])
+        for ax, key in ((axes[0], "peak"), (axes[1], "dip")):
+            v = np.asarray(d[key])          # (tau, seed), NaN where the orbit blew up
+            med = np.nanmedian(v, axis=1)
+            q1, q3 = np.nanpercentile(v, 25, axis=1), np.nanpercentile(v, 75, axis=1)
+            ax.plot(taus, med, color=colour, marker=marker, label=label)
+            ax.fill_between(taus, q1, q3, color=colour, alpha=0.2)
+        axes[2].plot(taus, np.asarray(d["blown_up"]).mean(axis=1), color=colour, marker=marker,
+                     label=label)
+    axes[0].set_title("(a) mode-1 share at the first recurrence")
+    axes[1].set_title("(b) smallest mode-1 share before it")
+    axes[2].set_title("(c) fraction blown up before 1.5 t_r")
+    for ax in axes:
+        ax.set_xlabel("disorder tau (%)")
+        ax.set_ylim(-0.03, 1.03)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("E_1 / E (median, quartiles)")
+    axes[0].legend()
+    fig.suptitle("N = 64, mode-1 initial state: recurrence against disorder")
+    return fig
+
+
+def fig_phase(outcomes_by_tau: dict, t_eval: float, path, *, tau_c_curve):
+    """(N, tau) phase diagram of model 3 at t_eval: the fractions chaotic, blown up and
+    regular on the grid, with the two-mode theory's tau_c(N) (exact expectation) drawn over."""
+    import matplotlib.pyplot as plt
+    taus = sorted(outcomes_by_tau)
+    Ns = sorted({int(n) for o in outcomes_by_tau.values() for n in np.unique(o.N)})
+    grids = {k: np.full((len(taus), len(Ns)), np.nan) for k in ("chaotic", "blow-up", "regular")}
+    for i, tau in enumerate(taus):
+        for r in outcome_table(outcomes_by_tau[tau], [t_eval]):
+            if r["n"] == 0:
+                continue
+            j = Ns.index(r["N"])
+            grids["chaotic"][i, j] = r["chaotic"] / r["n"]
+            grids["blow-up"][i, j] = r["blow-up"] / r["n"]
+            grids["regular"][i, j] = (r["regular"] + r["undecided"]) / r["n"]
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2), constrained_layout=True, sharey=True)
+    cmaps = {"chaotic": "Reds", "blow-up": "Greys", "regular": "Blues"}
+    Nc, tc = tau_c_curve
+    for ax, (k, g) in zip(axes, grids.items()):
+        im = ax.pcolormesh(np.arange(len(Ns) + 1) - 0.5, np.arange(len(taus) + 1) - 0.5, g,
+                           vmin=0, vmax=1, cmap=cmaps[k])
+        for i in range(len(taus)):
+            for j in range(len(Ns)):
+                if np.isfinite(g[i, j]):
+                    ax.text(j, i, f"{g[i, j]:.2f}", ha="center", va="center", fontsize=7,
+                            color="white" if g[i, j] > 0.6 else "black")
+        # tau_c(N) on the index axes: interpolate log2 N -> column, tau -> row
+        cols = np.interp(np.log2(Nc), np.log2(Ns), np.arange(len(Ns)))
+        rows = np.interp(tc, taus, np.arange(len(taus)), left=np.nan, right=np.nan)
+        ax.plot(cols, rows, "k--", lw=1.5, label="tau_c(N), two-mode theory")
+        ax.set_xticks(range(len(Ns)), [str(n) for n in Ns])
+        ax.set_yticks(range(len(taus)), [f"{t:g}" for t in taus])
+        ax.set_xlabel("N")
+        ax.set_title(f"{k}")
+        fig.colorbar(im, ax=ax, fraction=0.05)
+    axes[0].set_ylabel("disorder tau (%)")
+    axes[0].legend(loc="upper right", fontsize=7)
+    fig.suptitle(f"Model 3 at t = 10$^{{{int(round(math.log10(t_eval)))}}}$: fraction of the "
+                 "realisations in each class")
+    return fig, grids
+
+
+
+# ---- the studies and the driver ---------------------------------------------------------------
+
+#: the sizes of the monotonicity study
+ALL_N = (4, 8, 12, 16, 24, 32, 48, 64, 96, 128)
+#: the sizes and fractions of tau_c(N) of the threshold studies
+THRESHOLD_N = (8, 16, 32, 64, 128)
+THRESHOLD_FRACTIONS = (0.5, 0.9)
+#: the (N, tau) grid of the phase diagram
+PHASE_N = (8, 16, 32, 64)
+PHASE_TAU = (0, 2, 4, 6, 8, 10, 12, 14)
+#: the recurrence study: N = 64, tau = 0..20 %, 20 realisations, to 1.5 t_r
+RECURRENCE_TAU = (0.0, 2.0, 4.0, 6.0, 8.0, 10.0, 12.0, 14.0, 16.0, 18.0, 20.0)
+RECURRENCE_SEEDS = tuple(range(1, 21))
+RECURRENCE_T_END = 8.4e4
+
+
+def threshold_tau(N: int, fraction: float) -> float:
+    """fraction x tau_c(N), tau_c from the exact expectation of the two-mode coefficient B~
+    (percent, rounded to 1e-4 as the study directories record it)."""
+    from .reduction.statistics import critical_tolerance
+    return round(fraction * critical_tolerance(N, R=2).exact, 4)
+
+
+def chaos_studies() -> dict:
+    """name -> ChaosStudy parameters of every chaos study of the open questions (the work
+    directory of each is WORK_DIR/name)."""
+    out = {"monotone": dict(Ns=ALL_N, realisations=100, t_end=1e7),
+           "model2": dict(Ns=(4, 8, 16, 24, 32, 48, 64), realisations=50, t_end=1e7,
+                          model="hamiltonian")}
+    for frac in THRESHOLD_FRACTIONS:
+        for N in THRESHOLD_N:
+            out[f"tauc/f{frac}_N{N:03d}"] = dict(Ns=(N,), realisations=30,
+                                                 tau=threshold_tau(N, frac), t_end=1e7)
+    for tau in PHASE_TAU:
+        out[f"phase/tau{tau:02d}"] = dict(Ns=PHASE_N, realisations=20, tau=float(tau), t_end=1e6)
+    return out
+
+
+def _recurrence_study(work_dir, model, t_until, workers, progress):
+    from .engine import run_study
+    grid = {"N": [64], "tau": list(RECURRENCE_TAU), "seed": list(RECURRENCE_SEEDS)}
+    return run_study("recurrence", grid, {"model": model}, RECURRENCE_T_END if t_until else
+                     _reached(work_dir), work_dir=work_dir, workers=workers, progress=progress)
+
+
+def _reached(work_dir) -> float:
+    from .io.store import StudyStore
+    t = StudyStore.reader(work_dir).t_end()
+    if t is None:
+        raise ValueError(f"{work_dir}: the recurrence study has not been run (give t_until)")
+    return t
+
+
+def recurrence_table(ds) -> dict:
+    """{tau, seed, peak, dip, blown_up, t_recurrence} of a recurrence study's labelled result
+    (N = 64): t_r is the first recurrence of its tau = 0 run."""
+    t = ds["t"].values
+    share = ds["share"].values[0]            # (tau, seed, sample, mode) at the one N
+    taus = [float(v) for v in ds["tau"].values]
+    t_r = recurrence_time(t, share[taus.index(0.0), 0])
+    peak = np.full(share.shape[:2], np.nan)
+    dip = np.full_like(peak, np.nan)
+    blown = ds["blew_up"].values[0].astype(bool)
+    for i in range(share.shape[0]):
+        for j in range(share.shape[1]):
+            if not blown[i, j] or ds["t_reached"].values[0, i, j] >= 1.5 * t_r:
+                peak[i, j], dip[i, j] = recurrence_quality(t, share[i, j], t_r)
+    return {"tau": taus, "seed": [int(s) for s in ds["seed"].values], "peak": peak, "dip": dip,
+            "blown_up": blown, "t_recurrence": t_r}
+
+
+def open_questions(out_dir=".", *, work_dir="studies/open_questions", t_until=None,
+                   workers=None, progress=True, reference_dir="studies/fig12_14",
+                   formats=("png",)) -> list:
+    """Continue every study of the open questions to `t_until` (None: only draw what is
+    stored) and draw their figures into `out_dir`; returns the figures (their numbers: the
+    tables, the monotonicity tests). Resumable: rerun to continue."""
+    import json
+    import os
+
+    import matplotlib.pyplot as plt
+
+    from ._figure import save, target
+    from .chaos.study import ChaosStudy
+    from .reduction.statistics import critical_tolerance
+
+    work = os.fspath(work_dir)
+    loaded = {}
+    for name, params in chaos_studies().items():
+        study = ChaosStudy(os.path.join(work, name), **params)
+        if t_until is not None:
+            study.run(t_until=min(float(t_until), params["t_end"]), workers=workers,
+                      progress=progress)
+        loaded[name] = outcomes_from_dataset(study.result().to_xarray())
+    rec = {}
+    for model in ("nonlinear", "hamiltonian"):
+        d = os.path.join(work, f"recurrence_{model}")
+        rec[model] = recurrence_table(
+            _recurrence_study(d, model, t_until, workers, progress).to_xarray())
+    reached = {name: float(np.nanmin(np.where(np.isnan(o.t_chaotic) & np.isnan(o.t_blowup),
+                                              o.t_reached, np.inf)))
+               for name, o in loaded.items()}
+    figs, numbers = [], {"reached": reached}
+
+    mono = loaded["monotone"]
+    t_mono = [t for t in (1e4, 1e5, 1e6, 1e7) if t <= reached["monotone"] * (1 + 1e-12)]
+    ref = None
+    if reference_dir and os.path.isdir(reference_dir):
+        ref = outcomes_from_dataset(ChaosStudy(reference_dir).result().to_xarray())
+    fig, rows = fig_monotone(mono, t_mono, None, reference=ref)
+    tests = {f"{t:g}": {k: monotonicity([r for r in rows if r["t"] == t and r["n"] > 0], k)
+                        for k in ("fraction_chaotic", "fraction_chaotic_given_no_blowup")}
+             for t in t_mono}
+    numbers["monotone"] = {"rows": rows, "tests": tests}
+    figs.append(save(fig, target(out_dir, "open_monotone.png"), numbers["monotone"]))
+
+    t_thr = min(reached[n] for n in loaded if n.startswith("tauc/"))
+    t_thr = max([t for t in (1e4, 1e5, 1e6, 1e7) if t <= t_thr * (1 + 1e-12)], default=1e4)
+    by_f = {}
+    for frac in THRESHOLD_FRACTIONS:
+        parts = [loaded[f"tauc/f{frac}_N{N:03d}"] for N in THRESHOLD_N]
+        by_f[frac] = OrbitOutcomes(*(np.concatenate([getattr(p, a) for p in parts])
+                                     for a in ("N", "seed", "t_chaotic", "t_blowup",
+                                               "t_reached")))
+    tau_c = {N: critical_tolerance(N, R=2).exact for N in THRESHOLD_N}
+    fig, rows = fig_threshold(by_f, t_thr, None, tau_c=tau_c)
+    numbers["threshold"] = {"t": t_thr, "rows": {str(f): r for f, r in rows.items()},
+                            "tests": {str(f): monotonicity(r) for f, r in rows.items()}}
+    figs.append(save(fig, target(out_dir, "open_threshold.png"), numbers["threshold"]))
+
+    t_m = [t for t in (1e5, 1e6, 1e7) if t <= min(reached["model2"], reached["monotone"]) *
+           (1 + 1e-12)]
+    fig, rows = fig_models(mono, loaded["model2"], t_m, None)
+    numbers["models"] = rows
+    figs.append(save(fig, target(out_dir, "open_models.png"), {"models": rows}))
+
+    fig = fig_recurrence(rec, None)
+    numbers["recurrence"] = {m: {"tau": d["tau"], "t_recurrence": d["t_recurrence"],
+                                 "peak_median": np.nanmedian(d["peak"], axis=1).tolist(),
+                                 "dip_median": np.nanmedian(d["dip"], axis=1).tolist(),
+                                 "blown_up": d["blown_up"].mean(axis=1).tolist()}
+                             for m, d in rec.items()}
+    figs.append(save(fig, target(out_dir, "open_recurrence.png"), numbers["recurrence"]))
+
+    t_ph = min(reached[n] for n in loaded if n.startswith("phase/"))
+    t_ph = max([t for t in (1e4, 1e5, 1e6) if t <= t_ph * (1 + 1e-12)], default=1e4)
+    Nc = np.arange(PHASE_N[0], PHASE_N[-1] + 1)
+    curve = (Nc, np.array([critical_tolerance(int(n), R=2).exact for n in Nc]))
+    fig, grids = fig_phase({float(t): loaded[f"phase/tau{t:02d}"] for t in PHASE_TAU}, t_ph,
+                           None, tau_c_curve=curve)
+    numbers["phase"] = {"t": t_ph, **{k: g.tolist() for k, g in grids.items()}}
+    figs.append(save(fig, target(out_dir, "open_phase.png"), numbers["phase"]))
+    plt.close("all")
+    with open(target(out_dir, "open_questions.json"), "w") as fh:
+        json.dump(numbers, fh, indent=1, default=float)
+    return figs

@@ -1,0 +1,155 @@
+"""Recurrence against disorder: the "recurrence" study kind and its measures.
+
+The ordered FPUT chain started in mode 1 gives its energy away to the higher modes and takes
+almost all of it back at the recurrence time t_r (t_r ~ 5.6e4 at N = 64, alpha = 0.25: the
+paper's Fig. 1). Disorder spoils the return (Fig. 2). Per realisation this kind integrates the
+paper's mode-1 state to t_end and samples the share of the first four modes,
+
+    s_k(t) = E_k(t) / sum_j E_j(t),    k = 1..4,
+
+every `sample_every` (the share, not E_1 / E(0): model 3 is not Hamiltonian and its energy
+drifts). `recurrence_quality` reduces one run to two numbers: the largest s_1 in
+[t_r / 2, 3 t_r / 2] (how much comes back at the ordered chain's first recurrence) and the
+smallest s_1 before t_r / 2 (how much was given away). A run that crosses the potential barrier
+(a bond stretched past it, `Lattice.barrier`) stops there and is counted as a blow-up.
+
+A task is cheap (about a second at N = 64), so a larger t_end runs it again from the start
+rather than keeping its state.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ._validate import _int, _real
+from .engine import StudyKind
+from .integrate import integrate
+from .lattice import MODELS, Lattice
+
+__all__ = ["RECURRENCE_KIND", "RecurrenceKind", "recurrence_quality", "recurrence_time"]
+
+_SETTINGS = {"model": "nonlinear", "alpha": 0.25, "method": "srkn14a6", "dt": 0.25,
+             "sample_every": 20.0}
+
+
+def recurrence_time(t, share) -> float:
+    """The time of the largest mode-1 share after its deepest sharing (the first recurrence of
+    an ordered chain's run)."""
+    t = np.asarray(t, float)
+    s1 = np.asarray(share, float)[:, 0]
+    ok = np.isfinite(s1)
+    t, s1 = t[ok], s1[ok]
+    after = t > t[np.argmin(s1)]
+    if not after.any():
+        raise ValueError("the run ends at its deepest sharing: no recurrence in it")
+    return float(t[after][np.argmax(s1[after])])
+
+
+def recurrence_quality(t, share, t_recurrence: float) -> tuple[float, float]:
+    """(peak, dip): the largest mode-1 share in [t_r/2, 3t_r/2] and the smallest before t_r/2
+    (NaN where the run has no sample there)."""
+    t = np.asarray(t, float)
+    s1 = np.asarray(share, float)[:, 0]
+    late = (t >= 0.5 * t_recurrence) & (t <= 1.5 * t_recurrence) & np.isfinite(s1)
+    early = (t < 0.5 * t_recurrence) & np.isfinite(s1)
+    peak = float(s1[late].max()) if late.any() else math.nan
+    dip = float(s1[early].min()) if early.any() else math.nan
+    return peak, dip
+
+
+def _values(name, values, kind, minimum):
+    try:
+        vals = [kind(v) for v in np.atleast_1d(values).tolist()]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers (got {values!r})") from None
+    if not vals:
+        raise ValueError(f"{name} must not be empty")
+    if any(not math.isfinite(v) or v < minimum for v in vals):
+        raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")
+    if len(set(vals)) != len(vals):
+        raise ValueError(f"{name} must not repeat values (got {vals})")
+    return vals
+
+
+class RecurrenceKind(StudyKind):
+    """Mode shares s_1..s_4 of the paper's mode-1 state per (N, tau, seed), sampled every
+    `sample_every` to t_end; a blow-up ends a run (see the module docstring)."""
+    name = "recurrence"
+    version = 1
+    dims = ("N", "tau", "seed")
+    variables = {
+        "share": (("sample", "mode"), np.float32, "1",
+                  "share E_k / sum_j E_j of normal modes k = 1..4"),
+        "t_reached": ((), float, "1", "time the run reached"),
+        "blew_up": ((), bool, "", "the run crossed the potential barrier"),
+        "message": ((), str, "", "how the run ended"),
+    }
+    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
+                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
+                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+                   "t": {"long_name": "sample time", "units": "1"},
+                   "mode": {"long_name": "normal mode k", "units": "1"}}
+
+    def normalise(self, grid, settings):
+        grid = {"N": [int(v) for v in _values("Ns", grid["N"], float, 2)],
+                "tau": _values("tau", grid["tau"], float, 0.0),
+                "seed": [int(v) for v in _values("seeds", grid["seed"], float, 0)]}
+        unknown = set(settings) - set(_SETTINGS)
+        if unknown:
+            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of recurrence "
+                             f"studies (known: {', '.join(sorted(_SETTINGS))})")
+        s = {**_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
+        if s["model"] not in MODELS:
+            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
+        for name in ("alpha", "dt", "sample_every"):
+            s[name] = _real(s[name], name)
+            if not s[name] > 0 and name != "alpha":
+                raise ValueError(f"{name} must be > 0 (got {s[name]:g})")
+        return grid, s
+
+    def cost(self, coords, settings):
+        return float(coords["N"])
+
+    def run(self, settings, coords, previous, t_end):
+        return [_run_one(settings, c["N"], c["tau"], c["seed"], t_end) for c in coords]
+
+    def extra_sizes(self, settings, t_end):
+        return {"sample": int(math.floor(t_end / settings["sample_every"] + 1e-9)) + 1,
+                "mode": 4}
+
+    def extra_coords(self, settings, arrays):
+        n = arrays["share"].shape[-2]
+        return {"t": ("sample", settings["sample_every"] * np.arange(n)),
+                "mode": ("mode", np.arange(1, 5))}
+
+    def summary(self, ds):
+        return []
+
+
+def _run_one(settings, N, tau, seed, t_end) -> dict:
+    cpu0 = time.process_time()
+    model = settings["model"]
+    lat = Lattice(N, settings["alpha"], model=model, tau=tau if model != "homogeneous" else 0.0,
+                  seed=seed)
+    lower, upper = lat.barrier
+    stops = []
+    if math.isfinite(lower) or math.isfinite(upper):
+        stops = [("stretch", min(-lower, upper))]
+    every = settings["sample_every"]
+    n = int(math.floor(t_end / every + 1e-9)) + 1
+    run = integrate(lat, t_end, method=settings["method"], dt=settings["dt"],
+                    times=every * np.arange(n), stop_on=stops or None, on_failure="return")
+    E = np.asarray(run.mode_energies, float)
+    share = np.full((n, 4), np.nan, np.float32)
+    share[:E.shape[0]] = (E[:, :4] / E.sum(axis=1, keepdims=True)).astype(np.float32)
+    t_reached = float(run.t[-1]) if len(run.t) else 0.0
+    blew_up = run.event is not None or not run.completed
+    values = {"share": share, "t_reached": t_reached, "blew_up": bool(blew_up),
+              "message": run.message or ""}
+    return {"t": t_end, "done": bool(blew_up), "message": run.message or "",
+            "cpu": time.process_time() - cpu0, "values": values, "state": None}
+
+
+RECURRENCE_KIND = RecurrenceKind()
