@@ -285,7 +285,7 @@ def recurrence_table(ds) -> dict:
     blown = ds["blew_up"].values[0].astype(bool)
     for i in range(share.shape[0]):
         for j in range(share.shape[1]):
-            if not blown[i, j] or ds["t_reached"].values[0, i, j] >= 1.5 * t_r:
+            if not blown[i, j] or ds["t_stop"].values[0, i, j] >= 1.5 * t_r:
                 peak[i, j], dip[i, j] = recurrence_quality(t, share[i, j], t_r)
     return {"tau": taus, "seed": [int(s) for s in ds["seed"].values], "peak": peak, "dip": dip,
             "blown_up": blown, "t_recurrence": t_r}
@@ -376,3 +376,25 @@ def open_questions(out_dir=".", *, work_dir="studies/open_questions", t_until=No
     with open(target(out_dir, "open_questions.json"), "w") as fh:
         json.dump(numbers, fh, indent=1, default=float)
     return figs
+
+
+def _pct(f, lo, hi) -> str:
+    if not np.isfinite(f):
+        return "–"
+    return f"{100 * f:.0f} % ({100 * lo:.0f}–{100 * hi:.0f})"
+
+
+def monotone_markdown(rows: list[dict], t: float) -> str:
+    """The README / docs table of the monotonicity study at time t: per N the counts chaotic /
+    regular (+ undecided) / blow-up and the fractions chaotic of all orbits and of those that did
+    not blow up, with Wilson 95 % intervals. Generated from the stored study (a test compares
+    the README with it)."""
+    lines = [f"| N | chaotic / regular / undecided / blow-up at t = {t:.0e} | chaotic, of all "
+             "| chaotic, of those not blown up |",
+             "|---|---|---|---|"]
+    for r in sorted((r for r in rows if r["t"] == t and r["n"] > 0), key=lambda r: r["N"]):
+        lines.append(
+            f"| {r['N']} | {r['chaotic']} / {r['regular']} / {r['undecided']} / {r['blow-up']} | "
+            f"{_pct(r['fraction_chaotic'], r['fraction_chaotic_low'], r['fraction_chaotic_high'])}"
+            f" | {_pct(r['fraction_chaotic_given_no_blowup'], r['fraction_chaotic_given_no_blowup_low'], r['fraction_chaotic_given_no_blowup_high'])} |")
+    return "\n".join(lines)

@@ -80,9 +80,9 @@ class RecurrenceKind(StudyKind):
     version = 1
     dims = ("N", "tau", "seed")
     variables = {
-        "share": (("sample", "mode"), np.float32, "1",
+        "share": (("sample", "mode"), float, "1",
                   "share E_k / sum_j E_j of normal modes k = 1..4"),
-        "t_reached": ((), float, "1", "time the run reached"),
+        "t_stop": ((), float, "1", "time the run reached (before t_end: a blow-up)"),
         "blew_up": ((), bool, "", "the run crossed the potential barrier"),
         "message": ((), str, "", "how the run ended"),
     }
@@ -142,11 +142,11 @@ def _run_one(settings, N, tau, seed, t_end) -> dict:
     run = integrate(lat, t_end, method=settings["method"], dt=settings["dt"],
                     times=every * np.arange(n), stop_on=stops or None, on_failure="return")
     E = np.asarray(run.mode_energies, float)
-    share = np.full((n, 4), np.nan, np.float32)
-    share[:E.shape[0]] = (E[:, :4] / E.sum(axis=1, keepdims=True)).astype(np.float32)
+    share = np.full((n, 4), np.nan)
+    share[:E.shape[0]] = E[:, :4] / E.sum(axis=1, keepdims=True)
     t_reached = float(run.t[-1]) if len(run.t) else 0.0
     blew_up = run.event is not None or not run.completed
-    values = {"share": share, "t_reached": t_reached, "blew_up": bool(blew_up),
+    values = {"share": share, "t_stop": t_reached, "blew_up": bool(blew_up),
               "message": run.message or ""}
     return {"t": t_end, "done": bool(blew_up), "message": run.message or "",
             "cpu": time.process_time() - cpu0, "values": values, "state": None}
