@@ -1,21 +1,33 @@
-/* The force kernel against a plain-C roofline (issue 15, "On the old target of the integrator
- * issue": the kernel within 1.5x of the plain-C roofline).
+/* Every model's kernel against a hand-fused plain-C loop of the same model and against the
+ * memory bandwidth (issue 15's roofline, extended for issue 22).
  *
- * One Yoshida 4 step (drifts w1/2, (w0+w1)/2, (w0+w1)/2, w1/2; kicks w1, w0, w1) of the
- * homogeneous FPUT-alpha chain (alpha = 0.25, fixed ends) with 2 deviation vectors, three ways:
- *   fputlab   fpl_splitting_advance("yoshida4") (the library's kernel, target_clones AVX2/SSE2)
- *   plain C   a minimal hand-written step in the same layout: one loop per drift over all
- *             vectors, one fused loop per kick computing the orbit force and both tangent forces
- *             from the neighbours (no temporaries), boundaries peeled; compiled here
- *             with the flags given on the command line (see roofline.sh)
- *   bandwidth at large N, the time the memory system needs for the step's compulsory traffic:
- *             every drift and every kick streams each vector's x and p once (read x, read p,
- *             write one of them: 24 bytes per particle and vector), 7 passes per step, at the
- *             bandwidth of the drift loop itself measured on arrays of the same size (so the
- *             bound is what a streaming pass achieves here, not a data-sheet number)
- * Cost = process CPU time per particle-step (ns), best of --repeats repeats, all variants
+ * One Yoshida 4 step (drifts w1/2, (w0+w1)/2, (w0+w1)/2, w1/2; kicks w1, w0, w1) of the FPUT-alpha
+ * chain (alpha = 0.25, beta = 0, fixed ends), for model 1 (homogeneous), 2 (hamiltonian: cl = cn
+ * = s = v, minv = 1/v) and 3 (nonlinear: cn = v) with v_j spread over [0.9, 1.1] (the paper's
+ * tau = 10 %; model 3 is not conservative and runs away with much more), with k deviation
+ * vectors (0, 1, 2, 6 and 2N where the state fits in 16 MB), timed three ways:
+ *   fputlab   fpl_splitting_advance("yoshida4"): the model's fused stepper (target_clones
+ *             AVX2/SSE2)
+ *   plain C   a minimal hand-written step of the same model in the same layout: one loop per
+ *             drift over all vectors; per kick one loop that forms each particle's two bonds
+ *             (phi, kappa and the tangent bond forces) from the neighbours without temporaries,
+ *             the orbit and up to two vectors together (k > 2: the orbit loop stores kappa, then
+ *             one loop per vector), boundaries peeled; compiled here with the flags given on the
+ *             command line (see roofline.sh)
+ *   bound     the step's compulsory memory traffic (bytes counted below) at the bandwidth of a
+ *             STREAM-like triad a = b + s c measured in the same run on 3 x 64 MB (24 bytes per
+ *             element; out of cache this is the time the memory system needs, in cache it is no
+ *             bound, only a scale)
+ * Bytes per particle-step counted: a drift reads x, p and writes x of each vector (24 bytes; model
+ * 2 also reads minv: + 8); a kick reads x, reads and writes p (24) and the same for each vector
+ * (24 each), plus the coefficient arrays it streams (model 2: cn, s; model 3: cn). Yoshida 4 = 4
+ * drifts + 3 kicks: model 1 with 2 vectors 504 bytes, model 3 528, model 2 576.
+ * Cost = process CPU time per particle-step (ns), best of the repeats (at least 10 steps each),
+ * fputlab and plain C
  * interleaved in each repeat (the machine is shared). The plain step is checked against
- * fputlab's to round-off first. Usage: roofline [repeats]. */
+ * fputlab's to round-off first. Also printed: fputlab against model 1 at the same N and k, and
+ * the cost of one extra deviation vector in orbit steps, (t(k) - t(0)) / (k t(0)).
+ * Usage: roofline [repeats] [max_N] [min_N]. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -25,7 +37,6 @@
 #include "fputlab.h"
 
 #define ALPHA 0.25
-#define NDEV 2
 #define CBRT2 1.2599210498948731647672106072782283505702514647015
 #define W1 (1.0 / (2.0 - CBRT2))
 #define W0 (-CBRT2 / (2.0 - CBRT2))
@@ -37,136 +48,313 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* x += h p for the orbit and each deviation vector (layout [x p] per vector). */
-static void plain_drift(int n, double *restrict y, double h)
+/* The model's coefficients (as the library's model table sets them). */
+typedef struct coef {
+    double *cn, *s, *minv;
+} coef;
+
+/* x += h minv p for the orbit and each deviation vector (layout [x p] per vector). */
+static inline void plain_drift(int model, int n, int k, double *restrict y, const coef *c,
+                               double h)
 {
-    for (int v = 0; v <= NDEV; v++) {
+    for (int v = 0; v <= k; v++) {
         double *restrict x = y + 2 * (size_t)n * v;
         const double *restrict p = x + n;
-        for (int i = 0; i < n; i++) x[i] += h * p[i];
+        if (model == 2)
+            for (int i = 0; i < n; i++) x[i] += h * c->minv[i] * p[i];
+        else
+            for (int i = 0; i < n; i++) x[i] += h * p[i];
     }
 }
 
-/* p_i += h (phi(d_{i+1}) - phi(d_i)), phi(d) = d + a d^2, d_i = x_i - x_{i-1} (x_0 = x_{n+1} = 0);
- * dp_i += h (k_{i+1} dd_{i+1} - k_i dd_i), k = 1 + 2 a d: all three vectors in one loop. */
-static inline void kick_at(int i, double xl, double xc, double xr, const double *y, int n,
-                           double *y_out, double h)
+/* Bond j (particles j-1, j; 0 beyond the walls) of vector u: linear and nonlinear stretch. */
+static inline void stretch(int model, const double *u, const double *cn, int n, int j,
+                           double *L, double *R)
 {
-    const double dl = xc - xl, dr = xr - xc;
-    y_out[n + i] += h * ((dr + ALPHA * dr * dr) - (dl + ALPHA * dl * dl));
-    const double kl = 1.0 + 2.0 * ALPHA * dl, kr = 1.0 + 2.0 * ALPHA * dr;
-    for (int v = 1; v <= NDEV; v++) {
-        const double *w = y + 2 * (size_t)n * v;
-        const double wl = i > 0 ? w[i - 1] : 0.0, wr = i < n - 1 ? w[i + 1] : 0.0;
-        y_out[2 * (size_t)n * v + n + i] += h * (kr * (wr - w[i]) - kl * (w[i] - wl));
+    const double ur = j < n ? u[j] : 0.0, ul = j > 0 ? u[j - 1] : 0.0;
+    const double cr = j < n ? cn[j] : 0.0, cl = j > 0 ? cn[j - 1] : 0.0;
+    if (model == 1) {
+        *L = *R = ur - ul;
+    } else {
+        *R = cr * ur - cl * ul;
+        *L = model == 2 ? *R : ur - ul;
     }
 }
 
-/* The interior particles, written out for the orbit and both vectors (what one writes by hand). */
-static void kick_interior(int n, const double *restrict x, double *restrict p,
-                          const double *restrict w1, double *restrict q1,
-                          const double *restrict w2, double *restrict q2, double h)
+/* One particle next to a wall (i = 0 or n-1), every vector: written plainly. */
+static void plain_kick_end(int model, int n, int k, double *y, const coef *c, double h, int i)
+{
+    double Ll, Rl, Lr, Rr;
+    stretch(model, y, c->cn, n, i, &Ll, &Rl);
+    stretch(model, y, c->cn, n, i + 1, &Lr, &Rr);
+    const double sc = model == 2 ? h * c->s[i] : h;
+    y[n + i] += sc * ((Lr + ALPHA * Rr * Rr) - (Ll + ALPHA * Rl * Rl));
+    /* model 1: kappa includes the linear 1 and L = R */
+    const double kl = (model == 1) + 2.0 * ALPHA * Rl, kr = (model == 1) + 2.0 * ALPHA * Rr;
+    for (int v = 1; v <= k; v++) {
+        double *w = y + 2 * (size_t)n * v;
+        double dLl, dRl, dLr, dRr;
+        stretch(model, w, c->cn, n, i, &dLl, &dRl);
+        stretch(model, w, c->cn, n, i + 1, &dLr, &dRr);
+        if (model == 1)
+            w[n + i] += sc * (kr * dRr - kl * dRl);
+        else
+            w[n + i] += sc * ((dLr + kr * dRr) - (dLl + kl * dRl));
+    }
+}
+
+/* Particle i's tangent kick of vector d (into o) from the curvatures kl, kr of its bonds. */
+#define TANGENT_AT(d, o)                                                                    \
+    do {                                                                                    \
+        if (model == 1) {                                                                   \
+            (o)[i] += sc * (kr * ((d)[i + 1] - (d)[i]) - kl * ((d)[i] - (d)[i - 1]));       \
+        } else {                                                                            \
+            const double dRl = cn[i] * (d)[i] - cn[i - 1] * (d)[i - 1];                     \
+            const double dRr = cn[i + 1] * (d)[i + 1] - cn[i] * (d)[i];                     \
+            const double dLl = model == 2 ? dRl : (d)[i] - (d)[i - 1];                      \
+            const double dLr = model == 2 ? dRr : (d)[i + 1] - (d)[i];                      \
+            (o)[i] += sc * ((dLr + kr * dRr) - (dLl + kl * dRl));                           \
+        }                                                                                   \
+    } while (0)
+
+/* Interior particles: the orbit and nv = 0, 1 or 2 vectors (u, q), (w, r) in one loop (nv a
+ * constant at each call); with kap (k > 2) the orbit only, kappa of the left bond stored. */
+static inline void plain_kick_interior(int model, int n, int nv, const double *restrict x,
+                                       double *restrict p, const double *restrict u,
+                                       double *restrict q, const double *restrict w,
+                                       double *restrict r, const double *restrict cn,
+                                       const double *restrict s, double *restrict kap, double h)
 {
     for (int i = 1; i < n - 1; i++) {
-        const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
-        p[i] += h * ((dr + ALPHA * dr * dr) - (dl + ALPHA * dl * dl));
-        const double kl = 1.0 + 2.0 * ALPHA * dl, kr = 1.0 + 2.0 * ALPHA * dr;
-        q1[i] += h * (kr * (w1[i + 1] - w1[i]) - kl * (w1[i] - w1[i - 1]));
-        q2[i] += h * (kr * (w2[i + 1] - w2[i]) - kl * (w2[i] - w2[i - 1]));
+        double Rl, Rr, Ll, Lr;
+        if (model == 1) {
+            Rl = Ll = x[i] - x[i - 1];
+            Rr = Lr = x[i + 1] - x[i];
+        } else {
+            Rl = cn[i] * x[i] - cn[i - 1] * x[i - 1];
+            Rr = cn[i + 1] * x[i + 1] - cn[i] * x[i];
+            Ll = model == 2 ? Rl : x[i] - x[i - 1];
+            Lr = model == 2 ? Rr : x[i + 1] - x[i];
+        }
+        const double sc = model == 2 ? h * s[i] : h;
+        p[i] += sc * ((Lr + ALPHA * Rr * Rr) - (Ll + ALPHA * Rl * Rl));
+        const double kl = (model == 1) + 2.0 * ALPHA * Rl, kr = (model == 1) + 2.0 * ALPHA * Rr;
+        if (kap) kap[i] = kl;
+        if (nv >= 1) TANGENT_AT(u, q);
+        if (nv == 2) TANGENT_AT(w, r);
     }
 }
 
-static void plain_kick(int n, double *y, double h)
+/* One vector's interior tangent kick from stored kappa (kap[i]: bond i). */
+static inline void plain_tangent_interior(int model, int n, const double *restrict d,
+                                          double *restrict o, const double *restrict cn,
+                                          const double *restrict s, const double *restrict kap,
+                                          double h)
 {
-    kick_at(0, 0.0, y[0], y[1], y, n, y, h);
-    kick_interior(n, y, y + n, y + 2 * (size_t)n, y + 3 * (size_t)n, y + 4 * (size_t)n,
-                  y + 5 * (size_t)n, h);
-    kick_at(n - 1, y[n - 2], y[n - 1], 0.0, y, n, y, h);
+    for (int i = 1; i < n - 1; i++) {
+        const double sc = model == 2 ? h * s[i] : h;
+        const double kl = kap[i], kr = kap[i + 1];
+        if (model == 1) {
+            o[i] += sc * (kr * (d[i + 1] - d[i]) - kl * (d[i] - d[i - 1]));
+        } else {
+            const double dRl = cn[i] * d[i] - cn[i - 1] * d[i - 1];
+            const double dRr = cn[i + 1] * d[i + 1] - cn[i] * d[i];
+            const double dLl = model == 2 ? dRl : d[i] - d[i - 1];
+            const double dLr = model == 2 ? dRr : d[i + 1] - d[i];
+            o[i] += sc * ((dLr + kr * dRr) - (dLl + kl * dRl));
+        }
+    }
 }
 
-static void plain_yoshida4(int n, double *y, double dt, long steps)
+static inline void plain_kick(int model, int n, int k, double *y, const coef *c, double *kap,
+                              double h)
+{
+    /* the ends first: they read the interior's old x only (the kick changes p alone) */
+    plain_kick_end(model, n, k, y, c, h, 0);
+    plain_kick_end(model, n, k, y, c, h, n - 1);
+    const size_t st = 2 * (size_t)n;
+    if (k == 0) {
+        plain_kick_interior(model, n, 0, y, y + n, NULL, NULL, NULL, NULL, c->cn, c->s, NULL, h);
+        return;
+    }
+    if (k == 1) {
+        plain_kick_interior(model, n, 1, y, y + n, y + st, y + st + n, NULL, NULL, c->cn, c->s,
+                            NULL, h);
+        return;
+    }
+    if (k == 2) {
+        plain_kick_interior(model, n, 2, y, y + n, y + st, y + st + n, y + 2 * st,
+                            y + 2 * st + n, c->cn, c->s, NULL, h);
+        return;
+    }
+    plain_kick_interior(model, n, 0, y, y + n, NULL, NULL, NULL, NULL, c->cn, c->s, kap, h);
+    {   /* kappa of bond n-1 */
+        double L, R;
+        stretch(model, y, c->cn, n, n - 1, &L, &R);
+        kap[n - 1] = (model == 1) + 2.0 * ALPHA * R;
+    }
+    for (int v = 1; v <= k; v++)
+        plain_tangent_interior(model, n, y + st * v, y + st * v + n, c->cn, c->s, kap, h);
+}
+
+static inline void plain_yoshida4_model(int model, int n, int k, double *y, const coef *c,
+                                        double *kap, double dt, long steps)
 {
     for (long s = 0; s < steps; s++) {
-        plain_drift(n, y, 0.5 * W1 * dt);
-        plain_kick(n, y, W1 * dt);
-        plain_drift(n, y, 0.5 * (W0 + W1) * dt);
-        plain_kick(n, y, W0 * dt);
-        plain_drift(n, y, 0.5 * (W0 + W1) * dt);
-        plain_kick(n, y, W1 * dt);
-        plain_drift(n, y, 0.5 * W1 * dt);
+        plain_drift(model, n, k, y, c, 0.5 * W1 * dt);
+        plain_kick(model, n, k, y, c, kap, W1 * dt);
+        plain_drift(model, n, k, y, c, 0.5 * (W0 + W1) * dt);
+        plain_kick(model, n, k, y, c, kap, W0 * dt);
+        plain_drift(model, n, k, y, c, 0.5 * (W0 + W1) * dt);
+        plain_kick(model, n, k, y, c, kap, W1 * dt);
+        plain_drift(model, n, k, y, c, 0.5 * W1 * dt);
     }
 }
 
-static void initial(int n, double *y)
+/* One build per model (the model a constant in each). */
+static void plain_yoshida4(int model, int n, int k, double *y, const coef *c, double *kap,
+                           double dt, long steps)
+{
+    if (model == 1) plain_yoshida4_model(1, n, k, y, c, kap, dt, steps);
+    else if (model == 2) plain_yoshida4_model(2, n, k, y, c, kap, dt, steps);
+    else plain_yoshida4_model(3, n, k, y, c, kap, dt, steps);
+}
+
+static void initial(int n, int k, double *y)
 {
     for (int j = 0; j < n; j++) {
-        y[j] = sin(3.14159265358979323846 * (j + 1) / (n + 1));
+        y[j] = 0.3 * sin(3.14159265358979323846 * (j + 1) / (n + 1));
         y[n + j] = 0.0;
     }
-    for (long i = 2L * n; i < 2L * n * (NDEV + 1); i++) y[i] = 0.1 * sin(0.37 * (double)i);
+    for (long i = 2L * n; i < 2L * n * (k + 1); i++) y[i] = 0.1 * sin(0.37 * (double)i);
 }
 
-/* Bandwidth of the drift loop (24 bytes per element: read x, p; write x), bytes/s. */
-static double drift_seconds(int n, double *y, long reps)
+/* Bytes per particle-step of Yoshida 4 (see the top). */
+static double step_bytes(int model, int k)
 {
-    const double t0 = cpu_now();
-    for (long r = 0; r < reps; r++) plain_drift(n, y, 1e-12);
-    return cpu_now() - t0;
+    const double drift = 24.0 * (k + 1) + (model == 2 ? 8.0 : 0.0);
+    const double kick = 24.0 * (k + 1) + (model == 2 ? 16.0 : model == 3 ? 8.0 : 0.0);
+    return 4.0 * drift + 3.0 * kick;
+}
+
+/* Triad a = b + s c on 3 arrays of m doubles: bytes/s, best of `repeats`. */
+static double triad_bandwidth(int repeats)
+{
+    const size_t m = (size_t)8 << 20; /* 64 MB each */
+    double *a = malloc(m * sizeof *a), *b = malloc(m * sizeof *b), *c = malloc(m * sizeof *c);
+    if (!a || !b || !c) return NAN;
+    for (size_t i = 0; i < m; i++) { a[i] = 0.0; b[i] = 1.0; c[i] = 2.0; }
+    double best = INFINITY;
+    for (int r = 0; r < repeats; r++) {
+        const double t0 = cpu_now();
+        for (size_t i = 0; i < m; i++) a[i] = b[i] + 0.5 * c[i];
+        best = fmin(best, cpu_now() - t0);
+        b[r % m] = a[(r * 7919) % m]; /* keep the loop */
+    }
+    free(a);
+    free(b);
+    free(c);
+    return 24.0 * (double)m / best;
 }
 
 int main(int argc, char **argv)
 {
-    const int repeats = argc > 1 ? atoi(argv[1]) : 7;
-    const int sizes[] = {64, 512, 4096, 32768, 1 << 22};
+    const int repeats = argc > 1 ? atoi(argv[1]) : 5;
+    const long max_n = argc > 2 ? atol(argv[2]) : 1L << 22;
+    const long min_n = argc > 3 ? atol(argv[3]) : 0;
+    static const int sizes[] = {16, 64, 512, 4096, 32768, 262144, 1 << 22};
     const fpl_splitting *yo = NULL;
     if (fpl_splitting_lookup("yoshida4", &yo)) return 1;
-    printf("%8s %10s %14s %14s %14s %9s %9s\n", "N", "steps", "fputlab", "plain C",
-           "bandwidth", "fpl/plain", "fpl/bw");
-    printf("%8s %10s %14s %14s %14s\n", "", "", "[ns/(p*step)]", "[ns/(p*step)]",
-           "[ns/(p*step)]");
-    for (size_t k = 0; k < sizeof sizes / sizeof *sizes; k++) {
-        const int n = sizes[k];
-        const long len = 2L * n * (NDEV + 1);
-        /* ~0.05 s of work per timing at ~2 ns per particle-step */
-        long steps = (long)(2.5e7 / n);
-        if (steps < 2) steps = 2;
-        double *a = malloc(sizeof(double) * (size_t)len), *b = malloc(sizeof(double) * (size_t)len);
-        fpl_lattice *lat = NULL;
-        if (!a || !b || fpl_lattice_create(n, ALPHA, 0.0, FPL_MODEL_HOMOGENEOUS, NULL, &lat)) {
-            fprintf(stderr, "set-up failed at N = %d\n", n);
-            return 1;
+    const double bw = triad_bandwidth(repeats + 2);
+    printf("triad bandwidth %.2f GB/s (3 x 64 MB, best of %d)\n", bw / 1e9, repeats + 2);
+    printf("%5s %8s %5s %9s %12s %12s %12s %9s %9s %9s %9s\n", "model", "N", "k", "bytes",
+           "fputlab", "plain C", "bound", "fpl/plain", "fpl/bound", "fpl/mod1", "per-vec");
+    printf("%5s %8s %5s %9s %12s %12s %12s\n", "", "", "", "[B/p-st]", "[ns/p-st]", "[ns/p-st]",
+           "[ns/p-st]");
+    double t_model1[8][8] = {{0}}, t_orbit[8] = {0};
+    for (int model = 1; model <= 3; model++) {
+        for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++) {
+            const int n = sizes[in];
+            if (n > max_n) break;
+            if (n < min_n) continue;
+            int devs[5] = {0, 1, 2, 6, 2 * n}, nd = 5;
+            if ((2.0 * n + 1) * 2.0 * n * 8.0 > 16e6) nd = 4;   /* k = 2N: state <= 16 MB */
+            if (n >= (1 << 22)) nd = 3;                        /* 200 MB at k = 2 */
+            double *v = malloc(sizeof(double) * (size_t)n);
+            coef c = {malloc(sizeof(double) * (size_t)n), malloc(sizeof(double) * (size_t)n),
+                      malloc(sizeof(double) * (size_t)n)};
+            double *kap = malloc(sizeof(double) * ((size_t)n + 1));
+            if (!v || !c.cn || !c.s || !c.minv || !kap) return 1;
+            for (int j = 0; j < n; j++) {
+                v[j] = 0.9 + 0.2 * (0.5 + 0.5 * sin(12.9898 * j + 78.233 * (j % 17)));
+                c.cn[j] = model == 1 ? 1.0 : v[j];
+                c.s[j] = model == 2 ? v[j] : 1.0;
+                c.minv[j] = model == 2 ? 1.0 / v[j] : 1.0;
+            }
+            fpl_lattice *lat = NULL;
+            if (fpl_lattice_create(n, ALPHA, 0.0, model, model == 1 ? NULL : v, &lat)) {
+                fprintf(stderr, "lattice N = %d: %s\n", n, fpl_last_error());
+                return 1;
+            }
+            for (int id = 0; id < nd; id++) {
+                const int k = devs[id];
+                const long len = 2L * n * (k + 1);
+                /* ~0.03 s of work per timing at ~2 ns per particle-step and vector */
+                long steps = (long)(1.5e7 / ((double)n * (k + 1)));
+                /* fpl_splitting_advance checks the state for NaN/Inf before and after (two
+                 * passes): at least 10 steps, so that they weigh < 3 % out of cache */
+                if (steps < 10) steps = 10;
+                if (steps > 200000) steps = 200000;   /* t <= 2000: model 3 stays bounded */
+                const int reps = n >= (1 << 22) ? (repeats < 3 ? repeats : 3) : repeats;
+                double *a = malloc(sizeof(double) * (size_t)len);
+                double *b = malloc(sizeof(double) * (size_t)len);
+                if (!a || !b) { fprintf(stderr, "out of memory at N = %d, k = %d\n", n, k); return 1; }
+                initial(n, k, a);
+                initial(n, k, b);
+                if (fpl_splitting_advance(yo, lat, a, k, 0.01, 3)) return 1;
+                plain_yoshida4(model, n, k, b, &c, kap, 0.01, 3);
+                double diff = 0.0;
+                for (long i = 0; i < len; i++) diff = fmax(diff, fabs(a[i] - b[i]) / (1 + fabs(a[i])));
+                if (diff > 1e-12) {
+                    fprintf(stderr, "model %d N = %d k = %d: plain step differs from fputlab's by "
+                            "%.2e\n", model, n, k, diff);
+                    return 1;
+                }
+                double best_f = INFINITY, best_p = INFINITY;
+                for (int r = 0; r < reps; r++) {
+                    initial(n, k, a);   /* the same orbit every repeat (model 3 can run away) */
+                    initial(n, k, b);
+                    double t0 = cpu_now();
+                    const int st = fpl_splitting_advance(yo, lat, a, k, 0.01, steps);
+                    best_f = fmin(best_f, (cpu_now() - t0) / ((double)steps * n));
+                    if (st) {
+                        fprintf(stderr, "model %d N = %d k = %d: %s\n", model, n, k, fpl_last_error());
+                        return 1;
+                    }
+                    t0 = cpu_now();
+                    plain_yoshida4(model, n, k, b, &c, kap, 0.01, steps);
+                    best_p = fmin(best_p, (cpu_now() - t0) / ((double)steps * n));
+                }
+                const double bound = step_bytes(model, k) / bw;
+                if (model == 1) t_model1[in][id] = best_f;
+                if (k == 0) t_orbit[in] = best_f;
+                char per_vec[16] = "";
+                if (k > 0) snprintf(per_vec, sizeof per_vec, "%.2f",
+                                    (best_f - t_orbit[in]) / (k * t_orbit[in]));
+                printf("%5d %8d %5d %9.0f %12.3f %12.3f %12.3f %9.2f %9.2f %9.2f %9s\n", model, n,
+                       k, step_bytes(model, k), best_f * 1e9, best_p * 1e9, bound * 1e9,
+                       best_f / best_p, best_f / bound, best_f / t_model1[in][id], per_vec);
+                fflush(stdout);
+                free(a);
+                free(b);
+            }
+            fpl_lattice_free(&lat);
+            free(v);
+            free(c.cn);
+            free(c.s);
+            free(c.minv);
+            free(kap);
         }
-        /* same step, same result (round-off apart): the plain loop is the same computation */
-        initial(n, a);
-        initial(n, b);
-        if (fpl_splitting_advance(yo, lat, a, NDEV, 0.01, 3)) return 1;
-        plain_yoshida4(n, b, 0.01, 3);
-        double diff = 0.0;
-        for (long i = 0; i < len; i++) diff = fmax(diff, fabs(a[i] - b[i]));
-        if (diff > 1e-12) {
-            fprintf(stderr, "N = %d: plain step differs from fputlab's by %.2e\n", n, diff);
-            return 1;
-        }
-        double best_f = INFINITY, best_p = INFINITY, best_bw = INFINITY;
-        for (int r = 0; r < repeats; r++) {
-            double t0 = cpu_now();
-            fpl_splitting_advance(yo, lat, a, NDEV, 0.01, steps);
-            best_f = fmin(best_f, (cpu_now() - t0) / ((double)steps * n));
-            t0 = cpu_now();
-            plain_yoshida4(n, b, 0.01, steps);
-            best_p = fmin(best_p, (cpu_now() - t0) / ((double)steps * n));
-            /* 7 streaming passes per step over 3 vectors at the drift loop's bandwidth */
-            const double t = drift_seconds(n, b, 7 * steps) / (7.0 * (double)steps);
-            best_bw = fmin(best_bw, 7.0 * t / n);
-        }
-        const double bw = 24.0 * (NDEV + 1) * 7.0 / best_bw; /* bytes/s of the drift loop */
-        printf("%8d %10ld %14.3f %14.3f %14.3f %9.2f %9.2f   (drift loop %.1f GB/s)\n", n, steps,
-               best_f * 1e9, best_p * 1e9, best_bw * 1e9, best_f / best_p, best_f / best_bw,
-               bw / 1e9);
-        fflush(stdout);
-        fpl_lattice_free(&lat);
-        free(a);
-        free(b);
     }
     return 0;
 }

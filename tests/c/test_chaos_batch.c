@@ -580,6 +580,38 @@ static void test_orbit_format(void)
     for (int r = 0; r < R; r++) fpl_lattice_free(&l[r]);
 }
 
+/* The list of batch methods: every splitting scheme with the kinetic drift, in the registry's
+ * order, each of which the batch kernel accepts; the refusal of another method names them. */
+static void test_methods(void)
+{
+    static const char *const expected[] = {"leapfrog", "yoshida4", "aba864", "srkn14a6"};
+    const int count = fpl_chaos_batch_method_count();
+    CHECK(count == 4, "%d batch methods, expected 4", count);
+    for (int i = 0; i < count && i < 4; i++) {
+        const char *name = fpl_chaos_batch_method_name(i);
+        CHECK(name && strcmp(name, expected[i]) == 0, "batch method %d: %s, expected %s", i,
+              name ? name : "NULL", expected[i]);
+    }
+    CHECK(fpl_chaos_batch_method_name(count) == NULL && fpl_chaos_batch_method_name(-1) == NULL,
+          "index out of range gives NULL");
+    fpl_lattice *a = NULL;
+    CHECK_OK(fpl_lattice_create(8, 0.25, 0.0, 1, NULL, &a));
+    fpl_lattice *aa[2] = {a, a};
+    for (int i = 0; i < count; i++) {
+        fpl_chaos_batch_options bo;
+        fpl_chaos_batch_options_init(&bo);
+        bo.chaos.t_end = 1.0;
+        double y0[2 * 16] = {0};
+        y0[0] = 0.1;
+        fpl_chaos_batch *bb = NULL;
+        CHECK_OK(fpl_chaos_batch_create(aa, 2, fpl_chaos_batch_method_name(i), NULL, 0.0, y0, NULL,
+                                        &bo, &bb));
+        fpl_chaos_batch_free(&bb);
+    }
+    expect_error(aa, 2, "dprkn8", 0.01, 10.0, 1.0, "(leapfrog, yoshida4, aba864, srkn14a6)");
+    fpl_lattice_free(&a);
+}
+
 int main(void)
 {
     test_agreement();
@@ -589,5 +621,6 @@ int main(void)
     test_checkpoint();
     test_orbit_format();
     test_bad_input();
+    test_methods();
     return check_report("chaos_batch");
 }
