@@ -36,7 +36,15 @@ typedef struct fpl_work {
     double *fft;    /* 2(N+1) for the sine transform (N for the Fourier one) */
     struct fpl_rdft *rdft;  /* the real FFT of the mode transform; NULL without modes */
     double *ek;     /* N: mode energies for the event criteria */
+    /* FPL_KAPPA_STAGES x (N+1): the bond curvatures of every kick of one step, for the fused
+     * steppers with many deviation vectors (each vector then runs the whole step while it stays
+     * in cache); NULL for N > FPL_KAPPA_STAGES_MAX_N, where a vector does not stay in cache. */
+    double *kappa_stages;
 } fpl_work;
+/* The most kicks a step of a kinetic splitting scheme has (srkn14a6), and the largest N with a
+ * kappa_stages array (14 x 8193 doubles, 0.9 MB). */
+#define FPL_KAPPA_STAGES 14
+#define FPL_KAPPA_STAGES_MAX_N 8192
 
 /* A real DFT of any length m in O(m log m) (fft.c): GSL's mixed radix, or Bluestein's algorithm
  * for lengths with a large prime factor. forward: data (length m) -> GSL's half-complex layout

@@ -244,15 +244,26 @@ FPL_INLINE void kick_homogeneous_body(const fpl_lattice_ctx *c, double *y, doubl
 /* Kinetic drift x^(m) += h minv p^(m) for the orbit and every deviation vector (the drift is
  * linear, so its tangent map is itself). Unit masses skip minv: (h * 1) * p == h * p exactly,
  * so both forms give the same bits where minv = 1, and the unit form streams one array less. */
+FPL_INLINE void drift_vector_unit(int n, double *restrict x, double h)
+{
+    const double *restrict p = x + n;
+    for (int i = 0; i < n; i++)
+        FPL_DRIFT_UNIT(x[i], h, p[i]);
+}
+
+FPL_INLINE void drift_vector_masses(int n, double *restrict x, const double *restrict minv,
+                                    double h)
+{
+    const double *restrict p = x + n;
+    for (int i = 0; i < n; i++)
+        FPL_DRIFT(x[i], h, minv[i], p[i]);
+}
+
 FPL_INLINE void drift_unit_mass_body(const fpl_lattice_ctx *c, double *y, double h)
 {
     const int n = c->lat->n, n_dev = c->n_dev;
-    for (int m = 0; m <= n_dev; m++) {
-        double *restrict x = y + 2 * (size_t)n * m;
-        const double *restrict p = x + n;
-        for (int i = 0; i < n; i++)
-            FPL_DRIFT_UNIT(x[i], h, p[i]);
-    }
+    for (int m = 0; m <= n_dev; m++)
+        drift_vector_unit(n, y + 2 * (size_t)n * m, h);
 }
 
 FPL_HOT static void drift_unit_mass(void *ctx, double *y, int stage, double h)
@@ -261,21 +272,20 @@ FPL_HOT static void drift_unit_mass(void *ctx, double *y, int stage, double h)
     drift_unit_mass_body(ctx, y, h);
 }
 
+FPL_INLINE void drift_masses_body(const fpl_lattice_ctx *c, double *y, double h)
+{
+    const int n = c->lat->n, n_dev = c->n_dev;
+    for (int m = 0; m <= n_dev; m++)
+        drift_vector_masses(n, y + 2 * (size_t)n * m, c->lat->minv, h);
+}
+
 FPL_HOT static void drift_masses(void *ctx, double *y, int stage, double h)
 {
     (void)stage;
-    const fpl_lattice_ctx *c = ctx;
-    const int n = c->lat->n, n_dev = c->n_dev;
-    const double *restrict minv = c->lat->minv;
-    for (int m = 0; m <= n_dev; m++) {
-        double *restrict x = y + 2 * (size_t)n * m;
-        const double *restrict p = x + n;
-        for (int i = 0; i < n; i++)
-            FPL_DRIFT(x[i], h, minv[i], p[i]);
-    }
+    drift_masses_body(ctx, y, h);
 }
 
-/* ---- the homogeneous chain's fused stepper ---------------------------------------------- */
+/* ---- the homogeneous chain's kick ---------------------------------------------------------- */
 
 FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
 {
@@ -285,6 +295,269 @@ FPL_HOT static void kick_homogeneous(void *ctx, double *y, double h)
     else
         kick_homogeneous_body(c, y, h, 1);
 }
+
+/* ---- models 2 and 3: fused kicks ---------------------------------------------------------- */
+
+/* The disordered models' kick with the bond terms formed where they are used, as the homogeneous
+ * kick above: each particle computes its two bonds' phi (and kappa, and the deviation vectors'
+ * dphi), so nothing but the state and cn (model 2: also s) is streamed; kick_generic's phi, kappa
+ * and dphi arrays cost a store and a re-read per bond and vector (~1,030 against ~530 bytes per
+ * particle-step, issue 22). `ham` is a constant at every (inlined) call: model 2 (cl = cn, so
+ * L_b = R_b; s and minv) or model 3 (cl = s = minv = 1: the multiplications by 1 of the generic
+ * kernels are exact and left out, L_b = x_b - x_{b-1}). The expressions are those of
+ * bond_forces_generic / bond_tangent_generic / add_divergence in the same order (model_terms.h),
+ * so the results are bit-identical to kick_generic's. Valid for N >= 3 (the wall bonds are
+ * peeled off); shorter chains take kick_generic. */
+#define R_IN(u, k) (cn[k] * (u)[k] - cn[(k) - 1] * (u)[(k) - 1])
+#define L_IN(u, k) (ham ? R_IN(u, k) : (u)[k] - (u)[(k) - 1])
+#define PHI_G(L, R) (cubic ? FPL_PHI(L, R, a, b) : FPL_PHI_QUAD(L, R, a))
+#define KAP_G(R) (cubic ? FPL_KAPPA(R, a, b) : FPL_KAPPA_QUAD(R, a))
+#define DPHI_IN(u, k, kap) FPL_DPHI(L_IN(u, k), kap, R_IN(u, k))
+#define KICK_G(target, i, f1, f0) \
+    do { if (ham) FPL_KICK(target, h, s[i], f1, f0); else FPL_KICK_UNIT(target, h, f1, f0); } while (0)
+
+/* Particles in one block of the many-vector kick: kappa of a block's bonds (4 kB) stays in L1
+ * while every deviation vector's tangent kick reads it. */
+#define KICK_BLOCK 512
+
+/* Interior particles [lo, hi) of the orbit; with kap, also kappa_b of bonds lo..hi into kap. */
+FPL_INLINE void kick_orbit_general(int lo, int hi, const double *restrict x, double *restrict p,
+                                   const double *restrict cn, const double *restrict s, double a,
+                                   double b, double h, double *restrict kap, const int ham,
+                                   const int cubic)
+{
+    for (int i = lo; i < hi; i++) {
+        const double Rl = R_IN(x, i), Rr = R_IN(x, i + 1);
+        KICK_G(p[i], i, PHI_G(L_IN(x, i + 1), Rr), PHI_G(L_IN(x, i), Rl));
+        if (kap) kap[i] = KAP_G(Rl);
+    }
+    if (kap && hi > lo) kap[hi] = KAP_G(R_IN(x, hi));
+}
+
+/* Interior particles [lo, hi) of one deviation vector (u, q), kappa_b of bonds lo..hi in kap. */
+FPL_INLINE void kick_tangent_general(int lo, int hi, const double *restrict u, double *restrict q,
+                                     const double *restrict cn, const double *restrict s,
+                                     const double *restrict kap, double h, const int ham)
+{
+    for (int i = lo; i < hi; i++)
+        KICK_G(q[i], i, DPHI_IN(u, i + 1, kap[i + 1]), DPHI_IN(u, i, kap[i]));
+}
+
+/* The interior of the orbit and one or two deviation vectors in one pass (kappa of both bonds
+ * formed in registers; `two` a constant). */
+FPL_INLINE void kick_orbit_tangent_general(int n, const double *restrict x, double *restrict p,
+                                           const double *restrict u, double *restrict q,
+                                           const double *restrict w, double *restrict r,
+                                           const double *restrict cn, const double *restrict s,
+                                           double a, double b, double h, const int ham,
+                                           const int cubic, const int two)
+{
+    for (int i = 1; i < n - 1; i++) {
+        const double Rl = R_IN(x, i), Rr = R_IN(x, i + 1);
+        KICK_G(p[i], i, PHI_G(L_IN(x, i + 1), Rr), PHI_G(L_IN(x, i), Rl));
+        const double kl = KAP_G(Rl), kr = KAP_G(Rr);
+        KICK_G(q[i], i, DPHI_IN(u, i + 1, kr), DPHI_IN(u, i, kl));
+        if (two) KICK_G(r[i], i, DPHI_IN(w, i + 1, kr), DPHI_IN(w, i, kl));
+    }
+}
+
+/* Particles 0 and n-1 of one deviation vector (bonds 0, 1, n-1, n with their kappas). */
+FPL_INLINE void kick_tangent_ends_general(int n, const double *dx, double *dp,
+                                          const double *cn, const double *s, double k0,
+                                          double k1, double km, double kn, double h,
+                                          const int ham)
+{
+    const double t0 = FPL_DPHI_LEFT(ham ? cn[0] * dx[0] : dx[0], k0, cn[0], dx[0]);
+    const double t1 = DPHI_IN(dx, 1, k1), tm = DPHI_IN(dx, n - 1, km);
+    const double tn = FPL_DPHI_RIGHT(ham ? -cn[n - 1] * dx[n - 1] : -dx[n - 1], kn, cn[n - 1],
+                                     dx[n - 1]);
+    KICK_G(dp[0], 0, t1, t0);
+    KICK_G(dp[n - 1], n - 1, tn, tm);
+}
+
+FPL_INLINE void kick_general_body(const fpl_lattice_ctx *c, double *y, double h, const int ham,
+                                  const int cubic)
+{
+    const fpl_lattice *lat = c->lat;
+    const int n = lat->n, n_dev = c->n_dev;
+    if (n < 3) {
+        kick_generic((void *)c, y, h);
+        return;
+    }
+    const double a = lat->alpha, b = lat->beta;
+    const double *restrict cn = lat->cn, *restrict s = lat->s;
+    const size_t stride = 2 * (size_t)n;   /* one vector [x p] */
+    const double *x = y;
+    double *p = y + n;
+    /* the wall bonds 0 and n, and bonds 1 and n-1 */
+    const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
+    const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1], Rn = -cn[n - 1] * x[n - 1];
+    const double R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+    const double phi0 = PHI_G(L0, R0), phi1 = PHI_G(L_IN(x, 1), R1);
+    const double phim = PHI_G(L_IN(x, n - 1), Rm), phin = PHI_G(Ln, Rn);
+    const double k0 = KAP_G(R0), k1 = KAP_G(R1), km = KAP_G(Rm), kn = KAP_G(Rn);
+    if (n_dev == 0) {
+        kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
+    } else if (n_dev == 1) {
+        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, NULL, NULL, cn, s, a, b,
+                                   h, ham, cubic, 0);
+    } else if (n_dev == 2) {
+        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, y + 2 * stride,
+                                   y + 2 * stride + n, cn, s, a, b, h, ham, cubic, 1);
+    } else {
+        /* many vectors (GALI_k, the Lyapunov spectrum): block by block, kappa of the block's
+         * bonds once, then each vector's tangent kick on the block */
+        double *kap = c->work->kappa;
+        for (int i0 = 1; i0 < n - 1; i0 += KICK_BLOCK) {
+            const int i1 = i0 + KICK_BLOCK < n - 1 ? i0 + KICK_BLOCK : n - 1;
+            kick_orbit_general(i0, i1, x, p, cn, s, a, b, h, kap, ham, cubic);
+            for (int m = 1; m <= n_dev; m++) {
+                const double *dx = y + stride * (size_t)m;
+                kick_tangent_general(i0, i1, dx, (double *)dx + n, cn, s, kap, h, ham);
+            }
+        }
+    }
+    KICK_G(p[0], 0, phi1, phi0);
+    KICK_G(p[n - 1], n - 1, phin, phim);
+    for (int m = 1; m <= n_dev; m++) {
+        const double *dx = y + stride * (size_t)m;
+        kick_tangent_ends_general(n, dx, (double *)dx + n, cn, s, k0, k1, km, kn, h, ham);
+    }
+}
+
+FPL_HOT static void kick_hamiltonian(void *ctx, double *y, double h)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        kick_general_body(c, y, h, 1, 0);
+    else
+        kick_general_body(c, y, h, 1, 1);
+}
+
+FPL_HOT static void kick_nonlinear(void *ctx, double *y, double h)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        kick_general_body(c, y, h, 0, 0);
+    else
+        kick_general_body(c, y, h, 0, 1);
+}
+
+/* ---- many deviation vectors: the step vector by vector ------------------------------------ */
+
+/* With many deviation vectors (GALI_k, the Lyapunov spectrum with k up to 2N) the kick-by-kick
+ * order streams every vector through the cache once per stage, 2s+1 passes a step. The tangent
+ * map needs nothing from the orbit but the bond curvatures of each kick, so the step is taken in
+ * two parts: the orbit through all stages, its kick writing kappa of every bond into row i of
+ * work->kappa_stages (formed once per bond and kick); then the vectors, a block of them at a
+ * time, through all stages with those rows, the block staying in L1 for the whole step. Every element gets exactly the
+ * operations of the stage-by-stage order (the vectors do not interact): bit-identical. */
+
+/* The orbit's kick (all particles) with kappa_b of every bond 0..N into kap. */
+FPL_INLINE void kick_orbit_kappa(const fpl_lattice *lat, double *y, double h, double *kap,
+                                 const int model, const int cubic)
+{
+    const int n = lat->n;
+    const double a = lat->alpha, b = lat->beta;
+    const double *x = y;
+    double *p = y + n;
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        const double d0 = x[0], d1 = x[1] - x[0];
+        const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
+        const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
+        kick_orbit_homogeneous(n, x, p, a, b, h, kap, cubic);
+        kap[0] = KAP_H(d0);
+        kap[n - 1] = KAP_H(dm);
+        kap[n] = KAP_H(dn);
+        FPL_KICK_UNIT(p[0], h, phi1, phi0);
+        FPL_KICK_UNIT(p[n - 1], h, phin, phim);
+        return;
+    }
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double *restrict cn = lat->cn, *restrict s = lat->s;
+    const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
+    const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1], Rn = -cn[n - 1] * x[n - 1];
+    const double R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+    const double phi0 = PHI_G(L0, R0), phi1 = PHI_G(L_IN(x, 1), R1);
+    const double phim = PHI_G(L_IN(x, n - 1), Rm), phin = PHI_G(Ln, Rn);
+    kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, kap, ham, cubic);
+    kap[0] = KAP_G(R0);
+    kap[n] = KAP_G(Rn);
+    KICK_G(p[0], 0, phi1, phi0);
+    KICK_G(p[n - 1], n - 1, phin, phim);
+}
+
+/* One deviation vector's tangent kick (all particles) from the curvatures kap of bonds 0..N. */
+FPL_INLINE void kick_tangent_vector(const fpl_lattice *lat, double *v, double h,
+                                    const double *kap, const int model)
+{
+    const int n = lat->n;
+    const double *dx = v;
+    double *dp = v + n;
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        kick_tangent_homogeneous(n, dx, dp, kap, h);
+        kick_tangent_ends(n, dx, dp, kap[0], kap[1], kap[n - 1], kap[n], h);
+        return;
+    }
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    kick_tangent_general(1, n - 1, dx, dp, lat->cn, lat->s, kap, h, ham);
+    kick_tangent_ends_general(n, dx, dp, lat->cn, lat->s, kap[0], kap[1], kap[n - 1], kap[n], h,
+                              ham);
+}
+
+FPL_INLINE void drift_vector(const fpl_lattice *lat, double *v, double h, const int model)
+{
+    if (model == FPL_MODEL_HAMILTONIAN) drift_vector_masses(lat->n, v, lat->minv, h);
+    else drift_vector_unit(lat->n, v, h);
+}
+
+/* n steps, the orbit first and then each vector (N >= 3, scheme->n_kicks <= FPL_KAPPA_STAGES,
+ * work->kappa_stages present). */
+FPL_INLINE void steps_by_vector_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                     double *y, double dt, long nsteps, const int model,
+                                     const int cubic)
+{
+    const fpl_lattice *lat = c->lat;
+    const int st = scheme->n_kicks, n = lat->n, n_dev = c->n_dev;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    double *K = c->work->kappa_stages;
+    const size_t stride = 2 * (size_t)n, rows = (size_t)n + 1;
+    /* vectors in blocks of ~16 kB (half of L1): a vector's tangent kick reads dx_{i-1}, dx_i,
+     * dx_{i+1} just stored by its drift, and unaligned loads over fresh stores stall (no store
+     * forwarding) unless the block's other drifts come in between (3x slower at N = 16) */
+    const int vb = n <= 512 ? 1024 / n : 1;
+    for (long k = 0; k < nsteps; k++) {
+        for (int i = 0; i < st; i++) {
+            drift_vector(lat, y, da[i] * dt, model);
+            kick_orbit_kappa(lat, y, kb[i] * dt, K + rows * (size_t)i, model, cubic);
+        }
+        drift_vector(lat, y, da[st] * dt, model);
+        for (int m0 = 1; m0 <= n_dev; m0 += vb) {
+            const int m1 = m0 + vb <= n_dev + 1 ? m0 + vb : n_dev + 1;
+            for (int i = 0; i < st; i++) {
+                for (int m = m0; m < m1; m++)
+                    drift_vector(lat, y + stride * (size_t)m, da[i] * dt, model);
+                for (int m = m0; m < m1; m++)
+                    kick_tangent_vector(lat, y + stride * (size_t)m, kb[i] * dt,
+                                        K + rows * (size_t)i, model);
+            }
+            for (int m = m0; m < m1; m++)
+                drift_vector(lat, y + stride * (size_t)m, da[st] * dt, model);
+        }
+    }
+}
+
+/* Whether the vector-by-vector step applies (else the stage-by-stage one): from 8 vectors and
+ * N = 32 on it was 5-15 % faster (N = 32-512, k = 8-2N, all three models); with fewer vectors or
+ * shorter chains the stage-by-stage kick with kappa in registers or one array is as fast or
+ * faster (benchmarks/roofline.c, measured under load). */
+static int steps_by_vector(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
+{
+    return c->n_dev >= 8 && c->lat->n >= 32 && c->work->kappa_stages &&
+           scheme->n_kicks <= FPL_KAPPA_STAGES;
+}
+
+/* ---- the fused steppers ---------------------------------------------------------------- */
 
 /* n steps of the scheme, drift and kick inlined (fpl_split_system.steps): the same operations in
  * the same order as fpl_split_step on drift_unit_mass / kick_homogeneous. */
@@ -306,10 +579,61 @@ FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, do
                                       double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
-    if (c->lat->beta == 0.0)
+    if (steps_by_vector(scheme, c) && c->lat->beta == 0.0)
+        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0);
+    else if (steps_by_vector(scheme, c))
+        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1);
+    else if (c->lat->beta == 0.0)
         steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
     else
         steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
+}
+
+/* n steps of the scheme with drift and kick inlined (fpl_split_system.steps): the operations of
+ * fpl_split_step on the model's drift / kick in the same order, so bit-identical to it. */
+FPL_INLINE void steps_general_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                   double *y, double dt, long nsteps, const int ham,
+                                   const int cubic)
+{
+    const int st = scheme->n_kicks;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    for (long k = 0; k < nsteps; k++) {
+        for (int i = 0; i < st; i++) {
+            if (ham) drift_masses_body(c, y, da[i] * dt);
+            else drift_unit_mass_body(c, y, da[i] * dt);
+            kick_general_body(c, y, kb[i] * dt, ham, cubic);
+        }
+        if (ham) drift_masses_body(c, y, da[st] * dt);
+        else drift_unit_mass_body(c, y, da[st] * dt);
+    }
+}
+
+FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, double *y,
+                                      double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (steps_by_vector(scheme, c) && c->lat->beta == 0.0)
+        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0);
+    else if (steps_by_vector(scheme, c))
+        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1);
+    else if (c->lat->beta == 0.0)
+        steps_general_body(scheme, c, y, dt, nsteps, 1, 0);
+    else
+        steps_general_body(scheme, c, y, dt, nsteps, 1, 1);
+}
+
+FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, double *y,
+                                    double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (steps_by_vector(scheme, c) && c->lat->beta == 0.0)
+        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0);
+    else if (steps_by_vector(scheme, c))
+        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1);
+    else if (c->lat->beta == 0.0)
+        steps_general_body(scheme, c, y, dt, nsteps, 0, 0);
+    else
+        steps_general_body(scheme, c, y, dt, nsteps, 0, 1);
 }
 
 /* ---- anharmonic force (for the harmonic-split schemes, harmonic_split.c) ---------------- */
@@ -415,10 +739,11 @@ static void coefficients_nonlinear(double v, double *cl, double *cn, double *s, 
 static const fpl_model_ops ops_table[] = {
     {FPL_MODEL_HOMOGENEOUS, "homogeneous", coefficients_homogeneous, drift_unit_mass,
      kick_homogeneous, steps_homogeneous, energy_hamiltonian, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
-    {FPL_MODEL_HAMILTONIAN, "hamiltonian", coefficients_hamiltonian, drift_masses, kick_generic,
-     NULL, energy_hamiltonian, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
-    {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, drift_unit_mass, kick_generic,
-     NULL, energy_plain, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
+    {FPL_MODEL_HAMILTONIAN, "hamiltonian", coefficients_hamiltonian, drift_masses,
+     kick_hamiltonian, steps_hamiltonian, energy_hamiltonian, FPL_BOUNDARY_FIXED, NULL, NULL,
+     NULL},
+    {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, drift_unit_mass, kick_nonlinear,
+     steps_nonlinear, energy_plain, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
     /* model_toda.c; periodic chains: models_periodic.c */
     {FPL_MODEL_TODA, "toda", fpl_toda_coefficients, drift_unit_mass, fpl_toda_kick_fixed, NULL,
      fpl_any_energy_hamiltonian, FPL_BOUNDARY_FIXED, fpl_any_force, fpl_any_tangent,

@@ -16,7 +16,10 @@ int fpl_work_create(int n, int modes, fpl_work **out)
     w->dphi = xcalloc(nn + 1);
     w->fft = xcalloc(m);
     w->ek = xcalloc(nn);
-    if (!w->phi || !w->kappa || !w->dphi || !w->fft || !w->ek) {
+    if (n <= FPL_KAPPA_STAGES_MAX_N)   /* scratch, written before it is read: not zeroed */
+        w->kappa_stages = malloc(sizeof(double) * FPL_KAPPA_STAGES * (nn + 1));
+    if (!w->phi || !w->kappa || !w->dphi || !w->fft || !w->ek ||
+        (n <= FPL_KAPPA_STAGES_MAX_N && !w->kappa_stages)) {
         fpl_work_free(&w);
         return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory allocating a workspace for N = %d", n);
     }
@@ -40,6 +43,7 @@ void fpl_work_free(fpl_work **work)
     free(w->dphi);
     free(w->fft);
     free(w->ek);
+    free(w->kappa_stages);
     fpl_rdft_free(&w->rdft);
     free(w);
     *work = NULL;

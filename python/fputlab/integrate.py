@@ -162,9 +162,7 @@ class Integrator:
 
     def advance(self, t: float) -> np.ndarray:
         """Integrate to t and return the state there, shape (1 + n_dev, 2N)."""
-        y = np.empty(self._shape)
-        self._h.advance(_real(t, "t"), y)
-        return y
+        return self._h.advance_copy(_real(t, "t"))
 
     def transform_deviations(self, m) -> None:
         """w_i <- sum_j m[i, j] w_j (renormalisation, Gram-Schmidt)."""
