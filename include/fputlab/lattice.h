@@ -1,4 +1,7 @@
-/* fputlab — the lattice: N particles, fixed ends x_0 = x_{N+1} = 0, one of three models.
+/* fputlab — the lattice: N particles with fixed ends x_0 = x_{N+1} = 0 or on a ring (the
+ * boundary conditions below), one of four models: the paper's three FPUT models and the Toda
+ * chain FPL_MODEL_TODA (bond potential V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2), unit
+ * masses).
  *
  * With bond potential V(s) = s^2/2 + alpha s^3/3 + beta s^4/4 (FPUT-alpha-beta; beta = 0 in
  * the paper), bond stretches d_j = x_{j+1} - x_j and weighted stretches

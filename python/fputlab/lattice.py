@@ -1,4 +1,5 @@
-"""The lattice: N particles with fixed ends, one of three models, and its evaluation API."""
+"""The lattice: N particles with fixed ends or on a ring, one of four models, and its evaluation
+API."""
 from __future__ import annotations
 
 import os
@@ -67,7 +68,8 @@ def draw_disorder(N: int, tau: float, seed: int, kind: str = "gaussian") -> np.n
 
 
 class Lattice:
-    """An FPUT lattice x_0 = x_{N+1} = 0 with bond potential s^2/2 + alpha s^3/3 + beta s^4/4.
+    """An FPUT lattice with bond potential s^2/2 + alpha s^3/3 + beta s^4/4 (or the Toda chain's),
+    fixed ends x_0 = x_{N+1} = 0 or periodic (x_N = x_0).
 
     States are flat arrays y = [x, p] of length 2N (p = v x' for model 2, x' otherwise); with
     deviation vectors, y = [x, p, dx1, dp1, ...] of length 2N(1+k) or shape (1+k, 2N).
