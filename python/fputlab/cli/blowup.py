@@ -18,21 +18,21 @@ def cmd_blowup(a):
     _new_file(a, "out")
     if a.sweep:
         _ensemble_lattice_check(a)
-        out = blowup_sweep(a.tau, Ns=a.N, realisations=a.realisations, t_max=a.t_end,
+        out = blowup_sweep(a.tau, Ns=a.N, realisations=a.realisations, t_end=a.t_end,
                            model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
                            workers=a.workers, scheduler=a.scheduler, progress=not a.json,
                            **_integrator_kwargs(a))
         summary = {"tau": out["tau"].tolist(), "N": out["N"].tolist(),
                    "probability": out["probability"].tolist() if len(a.N) > 1
                    else out["probability"][:, 0].tolist(),
-                   "realisations": a.realisations, "t_max": a.t_end,
+                   "realisations": a.realisations, "t_end": a.t_end,
                    "two_mode_prediction_accuracy": out["prediction_accuracy"],
                    "records": [r._asdict() for r in out["records"]]}
         if a.out:
             # the file keeps its layout: records as rows of floats (tau, N, seed, blew_up,
             # time, tau_c), the BlowupRecord fields in order
             rec = np.array([tuple(r) for r in out["records"]], dtype=float)
-            _write_h5(a.out, {"t_max": a.t_end, "model": a.model,
+            _write_h5(a.out, {"t_end": a.t_end, "model": a.model,
                               "N": a.N[0] if len(a.N) == 1 else np.asarray(a.N)},
                       {"tau": out["tau"], "probability": out["probability"], "records": rec})
         if a.plot:
@@ -65,7 +65,7 @@ def _parser_blowup(sub, parents):
                  seed="disorder seed; a sweep uses SEED, SEED + 1, ... (default 1)"),
                  _integrator_options(method=f"integrator (default {B['method']})",
                                      dt="fixed step (default 0.01)"),
-                 _time_options(B["t_max"], "final time: no blow-up before it is blew_up false"),
+                 _time_options(B["t_end"], "final time: no blow-up before it is blew_up false"),
                  _ensemble_options(f"disorder realisations per tau (default 1; in a sweep "
                                    f"{B['realisations']}, as blowup_sweep)"),
                  _output_options("HDF5 file with the sweep (default: none)")])
