@@ -34,6 +34,7 @@ import numpy as np
 from ._lowlevel import VERSION
 from ._engine import check_ensemble, process_pool, run_calls  # noqa: F401 (public here too)
 from ._validate import _renamed
+from .io.atomic import write_h5_atomic
 
 #: kinds of task
 KINDS = ("blowup", "chaos")
@@ -232,19 +233,6 @@ def _run_groups(todo, spec, workers, scheduler):
 
 # ---- per-task files ---------------------------------------------------------------------------
 
-def _write_atomic(path: Path, fill) -> None:
-    """Write an HDF5 file under a temporary name in the same directory, then os.replace it."""
-    import h5py
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with h5py.File(tmp, "w") as f:
-            fill(f)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
 def _write_task(path: Path, rec: dict, spec: SweepSpec, key: str) -> None:
 
     def fill(f):
@@ -255,7 +243,7 @@ def _write_task(path: Path, rec: dict, spec: SweepSpec, key: str) -> None:
             f.attrs[name] = rec[name]
         for name in SERIES.get(rec["kind"], ()):
             f.create_dataset(name, data=rec[name])
-    _write_atomic(path, fill)
+    write_h5_atomic(path, fill)
 
 
 def _read_task(path: Path, task: Task, key: str) -> dict | None:
@@ -535,7 +523,7 @@ def _write_merged(path: Path, kind: str, records: list[dict], params: dict) -> N
         if kind in SERIES:
             f.create_dataset("n_samples", data=np.array([r["t"].size for r in records],
                                                          dtype=np.int64))
-    _write_atomic(path, fill)
+    write_h5_atomic(path, fill)
 
 
 def load_sweep(path) -> dict:

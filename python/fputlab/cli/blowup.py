@@ -3,8 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..io.summary import write_h5
 from ._common import (_emit, _ensemble_lattice_check, _homogeneous_check, _integrator_kwargs,
-                      _lattice, _new_file, _output_paths, _positive, _write_h5)
+                      _lattice, _new_file, _output_paths, _positive)
 from .parsers import (_alias, _ensemble_options, _fill, _finite_positive, _integrator_options,
                       _lattice_options, _one, _output_options, _sub, _time_options,
                       python_defaults)
@@ -32,7 +33,7 @@ def cmd_blowup(a):
             # the file keeps its layout: records as rows of floats (tau, N, seed, blew_up,
             # time, tau_c), the BlowupRecord fields in order
             rec = np.array([tuple(r) for r in out["records"]], dtype=float)
-            _write_h5(a.out, {"t_end": a.t_end, "model": a.model,
+            write_h5(a.out, {"t_end": a.t_end, "model": a.model,
                               "N": a.N[0] if len(a.N) == 1 else np.asarray(a.N)},
                       {"tau": out["tau"], "probability": out["probability"], "records": rec})
         if a.plot:
