@@ -228,6 +228,11 @@ class ChaosStudy:
         return self._cache[1]
 
     # -- reading ---------------------------------------------------------------------------
+    def result(self) -> ChaoticFraction:
+        """The study's labelled result as its files hold it now (`to_xarray()`, `summary()`);
+        nothing is computed."""
+        return self._loaded()
+
     def results(self) -> dict[int, list]:
         """{N: [ChaosResult per realisation]} as far as computed (None where not started)."""
         r = self._loaded()
