@@ -124,16 +124,17 @@ def _report(settings, t_end, res, t, mle, sali, gali, megno, message, state, cpu
             "state": None if done else state}
 
 
-#: fpl_chaos_save's accumulators before MEGNO joined them (15 numbers; MEGNO's four follow)
-_ACC_BEFORE_MEGNO = 15
+#: fpl_chaos_save's accumulators before MEGNO (fputlab <= the chaos subpackage's first study
+#: engine): states saved then continue with MEGNO unknown (NaN)
+_ACCUMULATORS_BEFORE_MEGNO = 15
 
 
-def _accumulators(acc) -> np.ndarray:
-    """An orbit's saved accumulators in this version's layout: a state saved before MEGNO
-    existed (15 numbers) gets MEGNO's four as NaN, so the orbit continues bit for bit in every
-    other indicator and reports MEGNO as unknown rather than as a value summed from the middle."""
-    acc = np.ascontiguousarray(acc, float).ravel()
-    if acc.size == _ACC_BEFORE_MEGNO:
+def chaos_accumulators(acc) -> np.ndarray:
+    """An orbit's saved fpl_chaos accumulators, as fpl_chaos_restore takes them: a state saved
+    before MEGNO (15 numbers) gets MEGNO's four as NaN, so it continues bit for bit in every
+    other number and reports MEGNO as NaN."""
+    acc = np.ascontiguousarray(acc, dtype=float)
+    if acc.size == _ACCUMULATORS_BEFORE_MEGNO:
         acc = np.concatenate([acc, np.full(ll.CHAOS_N_ACCUMULATORS - acc.size, np.nan)])
     return acc
 
@@ -144,7 +145,7 @@ def _samples(prev, S: int, rows: int = 1):
     out = [np.full(S, np.nan) for _ in range(5)]
     if prev is not None:
         for a, name in zip(out, ("t_sample", "mle_t", "sali_t", "gali_t", "megno_t")):
-            if name in prev["values"]:          # megno_t: not in reports from before MEGNO
+            if name in prev["values"]:       # a report from before MEGNO has no megno_t
                 v = np.asarray(prev["values"][name], float)
                 a[:v.size] = v
     return out
@@ -165,7 +166,7 @@ def _run_single(settings, N, tau, seed, prev, t_end) -> dict:
     if prev is not None:
         st = prev["state"]
         ih.restore(int(st["steps"]), float(st["t"]), np.ascontiguousarray(st["y"], float))
-        c.restore(_accumulators(st["acc"]))
+        c.restore(chaos_accumulators(st["acc"]))
     message, failed = (prev["message"] if prev is not None else ""), False
     try:
         if c.advance(t_end, *arrays) > 0:
@@ -197,7 +198,7 @@ def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
         st = [p["state"] for p in prevs]
         b.set_orbits([int(x["steps"]) for x in st], [float(x["t"]) for x in st],
                      np.stack([np.asarray(x["y"], float) for x in st]),
-                     np.stack([_accumulators(x["acc"]) for x in st]))
+                     np.stack([chaos_accumulators(x["acc"]) for x in st]))
     b.advance(t_end, *arrays)
     cpu = (time.process_time() - cpu0) / R
     lane = 2 * N * (settings["n_dev"] + 1)
@@ -233,7 +234,8 @@ class ChaosKind(StudyKind):
     so a larger t_end continues it bit for bit. Batchable methods run the orbits of one N in
     the vector lanes."""
     name = "chaos"
-    version = 2         # 2: MEGNO (and fpl_chaos_save's 19 accumulators)
+    version = 1         # MEGNO added (megno, megno_t): no other number changed, and states
+                        # saved before it continue (chaos_accumulators)
     dims = ("N", "tau", "seed")
     batch = 4
     variables = {

@@ -42,7 +42,7 @@ from .. import _lowlevel as ll
 from ..engine import HORIZONS, run_study  # noqa: F401 (HORIZONS: public here)
 from ..integrate import method_info
 from ..lattice import MODELS
-from .ensemble import CHAOS_KIND, ChaoticFraction, _accumulators, _lattice, _report
+from .ensemble import CHAOS_KIND, ChaoticFraction, _lattice, _report, chaos_accumulators
 
 _FORMAT = "fputlab-chaos-study-1"
 
@@ -362,7 +362,7 @@ def _legacy_report(path: Path, settings: dict, c: dict) -> dict:
     h = ll.ChaosHandle(lat._h, settings["method"], io, 0.0, lat.mode_state(), None,
                        ll.chaos_options(settings["sample_grid_end"], **co))
     ih = h.integrator()
-    acc = _accumulators(f["acc"])
+    acc = chaos_accumulators(f["acc"])
     ih.restore(int(f["steps"]), float(f["t"]), np.ascontiguousarray(f["state"], float))
     try:
         h.restore(acc)
@@ -376,8 +376,7 @@ def _legacy_report(path: Path, settings: dict, c: dict) -> dict:
         h.restore(acc)
     res = h.get_result()
     arrays = [np.asarray(f["s_" + k], float) for k in ("t", "mle", "sali", "gali")]
-    arrays.append(np.asarray(f["s_megno"], float) if "s_megno" in f
-                  else np.full_like(arrays[0], np.nan))
+    arrays.append(np.full(arrays[0].size, np.nan))      # old orbit files have no MEGNO
     state = {"steps": np.int64(f["steps"]), "t": np.float64(f["t"]), "y": ih.get_state(),
              "acc": h.save()}
     failed = bool(f.get("failed", False))
