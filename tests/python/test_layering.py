@@ -22,7 +22,7 @@ LAYERS = [
     ("analysis", {"analysis", "chaos", "chaos_batch", "blowup", "reduction", "thermalization",
                   "recurrence"}),
     ("files and ensembles", {"io", "ensemble", "study", "thermalization_study"}),
-    ("plots and figures", {"plotting", "figures", "figures_reduction", "demo",
+    ("plots and figures", {"plotting", "figures", "figures_reduction", "figures_open", "demo",
                            "figures_thermalization"}),
     ("interface", {"cli", "__main__", ""}),       # "": the package itself (fputlab/__init__.py)
 ]

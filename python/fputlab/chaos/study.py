@@ -363,7 +363,12 @@ def _legacy_report(path: Path, settings: dict, c: dict) -> dict:
                        ll.chaos_options(settings["sample_grid_end"], **co))
     ih = h.integrator()
     acc = chaos_accumulators(f["acc"])
-    ih.restore(int(f["steps"]), float(f["t"]), np.ascontiguousarray(f["state"], float))
+    steps, t_saved = int(f["steps"]), float(f["t"])
+    if settings["dt"] and steps * settings["dt"] != t_saved:
+        # an orbit that blew up was saved at its last renormalisation with the step count of
+        # the step it blew up in: it never continues, so the integrator is put on that time
+        steps = round(t_saved / settings["dt"])
+    ih.restore(steps, t_saved, np.ascontiguousarray(f["state"], float))
     try:
         h.restore(acc)
     except ValueError:

@@ -130,6 +130,8 @@ class StudyStore:
                     arr = np.asarray(v)
                     if arr.dtype.kind in "US":
                         g.attrs[name] = str(arr)
+                    elif arr.size >= 256:   # sample series: NaN-padded, they compress 3-10x
+                        g.create_dataset(name, data=arr, compression="gzip", shuffle=True)
                     else:
                         g.create_dataset(name, data=arr)
         write_h5_atomic(self.task_path(task_id), fill)
