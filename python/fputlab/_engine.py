@@ -172,7 +172,8 @@ def chunks(items: list, threads: int, minimum: int = 1) -> list[list]:
     return [items[i:i + per] for i in range(0, len(items), per)]
 
 
-def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None, window: int | None = None):
+def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None, window: int | None = None,
+              pool=None):
     """The ensemble engine: ``fn(*call)`` for every call, on a local process pool or a Dask
     cluster, yielded in completion order. Every sweep of fputlab runs on it.
 
@@ -192,6 +193,8 @@ def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None, window: int
     window : int, optional
         At most this many calls submitted and not yet finished (default: twice the threads):
         the client holds a bounded number of futures, whatever the number of calls.
+    pool : process_pool, optional
+        A pool to reuse (it stays open; the caller closes it); default: one for this call.
 
     Yields
     ------
@@ -212,7 +215,8 @@ def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None, window: int
     """
     calls = list(calls)
     if scheduler is None:
-        pool = process_pool(workers)
+        owned = pool is None
+        pool = process_pool(workers) if owned else pool
         limit = window or 2 * max(1, int(workers or os.cpu_count() or 1))
         try:
             pending, it = {}, iter(enumerate(calls))
@@ -231,7 +235,8 @@ def run_calls(fn, calls, *, workers=None, scheduler=None, keys=None, window: int
         except BaseException:                 # Ctrl-C, or the caller stopped: workers go now
             pool.terminate()
             raise
-        pool.shutdown(wait=True)
+        if owned:
+            pool.shutdown(wait=True)
         return
     from dask.distributed import as_completed as dask_as_completed
     client, owned = _dask_client(scheduler)

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._engine import chunks, run_calls, total_threads
+from ._engine import chunks, process_pool, run_calls, total_threads
 
 __all__ = ["StudySpec", "StudyKind", "StudyResult", "KINDS", "get_kind", "run_study",
            "load_study", "wilson_interval"]
@@ -284,10 +284,10 @@ def run_study(kind: str, grid: dict, settings: dict, t_end: float, *, work_dir=N
             store.close()
 
 
-#: the horizons of a long study: every task reaches one before any goes further, so an
-#: interruption loses at most one piece per task and the classes are known for every task at
-#: the same time
-HORIZONS = (1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12)
+#: the horizons of a long study (1, 2, 5 per decade from 1e4): every task reaches one before any
+#: goes further, so the classes are known for every task at the same time, and a kill loses at
+#: most the piece since the last one (at most 60 % of the time reached)
+HORIZONS = tuple(m * 10.0 ** e for e in range(4, 13) for m in (1, 2, 5))
 
 
 def load_study(work_dir) -> StudyResult:
@@ -335,11 +335,13 @@ def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
         bar = _Progress(k, spec.settings, todo, t_end, progress)
         t_min = min(t0 for _, t0 in todo)
         rounds = [h for h in HORIZONS if t_min < h < t_end] + [t_end]
+        # one local pool for every round (starting processes is most of a small task's cost)
+        pool = process_pool(workers) if scheduler is None else None
         try:
             for h in rounds:
                 calls = _plan(k, spec, [c for c, _ in todo], previous, h, threads)
                 for call, reports, err in run_calls(_call, calls, workers=workers,
-                                                    scheduler=scheduler):
+                                                    scheduler=scheduler, pool=pool):
                     if err is not None:
                         raise err
                     for c, rep in zip(call[2], reports):
@@ -352,6 +354,8 @@ def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
                             bar.update(task_id(c), rep, rep.get("cpu", 0.0))
         finally:
             bar.close()
+            if pool is not None:
+                pool.shutdown(wait=True, cancel_futures=True)
     elif store is not None and store.t_end() is None:
         store.set_t_end(t_end)
     ds = _merge(k, spec, tasks, store, memory)

@@ -6,7 +6,8 @@ mode-1 initial state, two deviation vectors) is followed with the chaos indicato
 and SALI(t) up to t_end = 1e8, sampled at n_samples log-spaced times up to t_end. The work
 directory is the engine's (`fputlab.io.store`): one task file per orbit (its samples and its
 state in the single-orbit checkpoint format), replaced atomically as the orbit reports, so a
-rerun continues bit for bit. The study advances in horizons (1e4, 1e5, ... up to t_until):
+rerun continues bit for bit. The study advances in horizons (1e4, 2e4, 5e4, 1e5, ... up to
+t_until):
 every orbit reaches a horizon before any goes further, so after a bounded piece of work the
 classes are known for every orbit at the same time:
 
