@@ -3,17 +3,42 @@ from __future__ import annotations
 
 from .parsers import _alias, _sub
 
+#: the figure sets beyond the paper's numbered figures
+OPEN_QUESTIONS = "open-questions"
+
+
+def _figure_key(text: str):
+    """--only values: a figure number 1-14 or the name of a set of figures."""
+    if text == OPEN_QUESTIONS:
+        return text
+    try:
+        k = int(text)
+    except ValueError:
+        raise ValueError(f"--only: {text!r} is neither a figure number (1-14) nor "
+                         f"{OPEN_QUESTIONS!r}") from None
+    if not 1 <= k <= 14:
+        raise ValueError(f"--only: there is no figure {k} (the paper's figures are 1-14)")
+    return k
+
+
 def cmd_figures(a):
     from ..figures import all_figures
-    only = set(a.only) if a.only else None
-    unknown = sorted(k for k in (only or ()) if not 1 <= k <= 14)
-    if unknown:
-        raise ValueError(f"--only: there is no figure {', '.join(map(str, unknown))} (the paper's "
-                         "figures are 1-14)")
-    study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
-             "scheduler": a.scheduler}
-    for p in all_figures(a.out_dir, full=a.full, only=only, **study):
-        print(p)
+    keys = [_figure_key(k) for k in a.only] if a.only else None
+    only = {k for k in keys if isinstance(k, int)} if keys else None
+    if a.t_end is not None and not (a.t_end > 0 and a.t_end < float("inf")):
+        raise ValueError(f"--t-end must be finite and > 0 (got {a.t_end:g})")
+    if keys is None or only:
+        study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
+                 "scheduler": a.scheduler}
+        for p in all_figures(a.out_dir, full=a.full, only=only, **study):
+            print(p)
+    if keys is not None and OPEN_QUESTIONS in keys:
+        # the studies of the paper's open questions (docs/open_questions.md): drawn from the
+        # stored studies, continued to --t-end when given
+        from ..figures_open import open_questions
+        for p in open_questions(a.out_dir, work_dir=a.work_dir or "studies/open_questions",
+                                t_until=a.t_end, workers=a.workers):
+            print(p)
     return 0
 
 
@@ -24,7 +49,10 @@ def _parser_figures(sub, parents):
     _alias(s, "--out", "--out-dir", "out_dir", metavar="DIR")
     s.add_argument("--full", action="store_true",
                    help="the paper's settings, t = 1e8: very long (default: quick settings)")
-    s.add_argument("--only", type=int, nargs="+", help="figure numbers to make (default: all)")
+    s.add_argument("--only", nargs="+", metavar="FIG",
+                   help="figure numbers (1-14) to make, or open-questions: the figures of the "
+                   "paper's open questions from the studies in --work-dir (default "
+                   "studies/open_questions; docs/open_questions.md) (default: figures 1-14)")
     s.add_argument("--work-dir", help="chaos study of Figs. 12-14: one state file per orbit, "
                    "resumed by the next call (default OUT_DIR/chaos_study)")
     s.add_argument("--t-end", type=float, metavar="T", help="how far the chaos study goes in this call "
