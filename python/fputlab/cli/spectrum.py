@@ -1,8 +1,9 @@
 """`fputlab spectrum`: the Lyapunov spectrum of one orbit (fputlab.chaos.lyapunov_spectrum)."""
 from __future__ import annotations
 
+from ..io.summary import write_h5
 from ._common import (_emit, _g, _homogeneous_check, _integrator_kwargs, _lattice, _new_file,
-                      _output_paths, _positive, _write_h5)
+                      _output_paths, _positive)
 from .parsers import (_finite_positive, _integrator_options, _lattice_options, _output_options,
                       _resolve_single_lattice, _sub, _time_options, python_defaults)
 
@@ -32,7 +33,7 @@ def cmd_spectrum(a):
     if res.message:
         summary["message"] = res.message
     if a.out:
-        _write_h5(a.out, {"kind": "spectrum", "model": lat.model, "N": lat.N, "k": res.k,
+        write_h5(a.out, {"kind": "spectrum", "model": lat.model, "N": lat.N, "k": res.k,
                           "method": res.method, "t_end": a.t_end, "t_final": res.t_final,
                           "renormalize_every": a.renormalize_every,
                           "t_transient": a.t_transient, "ks_entropy": res.ks_entropy,
