@@ -268,16 +268,16 @@ def _run_task(spec_json: str, work: str, point: int, orbit: int, segment: int) -
     its result file; returns the wall time."""
     spec = spec_from_json(spec_json)
     work = Path(work)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     start = None
     if segment:
         prev = _load_task(_task_path(work, point, orbit, segment - 1))
         start = {"steps": prev["steps"], "t": prev["t_end"], "state": prev["state"]}
     res = run_segment(spec, point, orbit, segment, start)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     path = _task_path(work, point, orbit, segment)
     path.parent.mkdir(parents=True, exist_ok=True)
-    _atomic_savez(path, wall=np.float64(wall), **res)
+    _atomic_savez(path, wall=np.float64(wall), cpu=np.float64(cpu), **res)
     if res["failed"]:
         _atomic_text(_failed_path(work, point, orbit),
                      json.dumps({"segment": segment, "message": str(res["message"])}))
@@ -364,11 +364,13 @@ class ThermalizationStudy:
             return None
         ts, es, err = None, [], 0.0
         failed = self._failed(point)
-        walls = 0.0
+        walls = cpus = 0.0
         for o in range(self.spec.orbits):
             parts = [_load_task(_task_path(self.work, point, o, s)) for s in range(done)
                      if _task_path(self.work, point, o, s).exists()]
             walls += sum(float(p["wall"]) for p in parts)
+            # CPU time (process time; files written before it was recorded have none: nan)
+            cpus += sum(float(p["cpu"]) if "cpu" in p else math.nan for p in parts)
             if o in failed:
                 continue
             es.append(np.concatenate([p["e"] for p in parts]))
@@ -380,7 +382,7 @@ class ThermalizationStudy:
                     [p["energy"], p["energy_min"]]) / E0 - 1))))
         # fewer than 2 orbits left (the rest blew up): no ensemble, e is None
         return {"t": ts, "e": np.stack(es) if len(es) >= 2 else None, "energy_error": err,
-                "segments": done, "wall": walls, "failed": len(failed)}
+                "segments": done, "wall": walls, "cpu": cpus, "failed": len(failed)}
 
     def _point_finished(self, point: int) -> bool:
         d = self.point_data(point)
@@ -447,16 +449,18 @@ class ThermalizationStudy:
             d = self.point_data(p)
             row = {"eps": eps, "E": spec.energy(eps), "t_eq": math.nan,
                    "interval": (math.nan, math.nan), "t_reached": 0.0, "eta_last": math.nan,
-                   "energy_error": math.nan, "wall": 0.0, "orbit_time": 0.0, "failed": 0}
+                   "energy_error": math.nan, "wall": 0.0, "cpu": 0.0, "orbit_time": 0.0,
+                   "failed": 0}
             if d is not None and d["e"] is None:
-                row.update(failed=d["failed"], wall=d["wall"])
+                row.update(failed=d["failed"], wall=d["wall"], cpu=d["cpu"])
             elif d is not None:
                 res = equipartition_time(d["t"], d["e"], threshold=spec.threshold,
                                          n_boot=spec.n_boot, seed=spec.seed + p)
                 row.update(t_eq=res["t_eq"], interval=res["interval"], boot=res["boot"],
                            t=d["t"], eta=res["eta"], t_reached=float(d["t"][-1]),
                            eta_last=float(res["eta"][-1]), energy_error=d["energy_error"],
-                           wall=d["wall"], orbit_time=float(d["t"][-1]) * spec.orbits,
+                           wall=d["wall"], cpu=d["cpu"],
+                           orbit_time=float(d["t"][-1]) * spec.orbits,
                            failed=d["failed"],
                            finished=self._point_finished(p))
             points.append(row)

@@ -60,6 +60,7 @@ def test_interrupted_study_continues_bit_for_bit(tmp_path):
         np.testing.assert_array_equal(pa["eta"], pb["eta"])
         assert pa["t_eq"] == pb["t_eq"]
     assert a["fit"]["exponent"] == b["fit"]["exponent"]
+    assert all(p["cpu"] > 0 and p["wall"] > 0 for p in a["points"])
     ranged = again.results(fit_ranges=[(0.0, 1.0), (0.18, 1.0)])
     assert ranged["range_fits"][0]["exponent"] == b["fit"]["exponent"]
     assert len(ranged["range_fits"]) == 1            # one point in (0.18, 1): no fit
