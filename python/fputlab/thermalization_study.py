@@ -71,6 +71,9 @@ class ThermalizationSpec:
     window: float | None = None
     threshold: float = 0.1
     n_boot: int = 400
+    #: the t_max values a study had before it was extended (ascending): the segments ended
+    #: there, so they still do (`segment_ends`)
+    earlier_t_max: tuple = ()
 
     def energy(self, eps: float) -> float:
         """Total energy E of the point eps."""
@@ -88,9 +91,12 @@ class ThermalizationSpec:
         return Lattice(self.N, self.alpha, self.model, beta=self.beta, **kw)
 
     def segment_ends(self) -> list[float]:
+        # doubling from t_first, each (earlier) t_max an end of its own, so a study extended
+        # to a larger t_max keeps the segments it has and continues doubling from there
         ends = [self.t_first]
-        while ends[-1] < self.t_max * (1 - 1e-12):
-            ends.append(min(2 * ends[-1], self.t_max))
+        for cap in tuple(self.earlier_t_max) + (self.t_max,):
+            while ends[-1] < cap * (1 - 1e-12):
+                ends.append(min(2 * ends[-1], cap))
         return ends
 
     def window_length(self) -> float:
@@ -129,6 +135,9 @@ def check_spec(spec: ThermalizationSpec) -> ThermalizationSpec:
             raise ValueError(f"{name} must be finite and > 0 (got {v:g})")
     if spec.t_max < spec.t_first:
         raise ValueError(f"t_max ({spec.t_max:g}) must be >= t_first ({spec.t_first:g})")
+    earlier = tuple(float(_real(t, "earlier_t_max")) for t in spec.earlier_t_max)
+    if any(not spec.t_first <= a < b for a, b in zip(earlier, earlier[1:] + (spec.t_max,))):
+        raise ValueError("earlier_t_max must ascend from t_first to below t_max")
     if not 0 < _real(spec.threshold, "threshold") < 1:
         raise ValueError(f"threshold must lie in (0, 1) (got {spec.threshold:g})")
     if method_info(spec.method)["adaptive"]:
@@ -136,7 +145,7 @@ def check_spec(spec: ThermalizationSpec) -> ThermalizationSpec:
     if spec.window is not None and not (_real(spec.window, "window") >= 0):
         raise ValueError("window must be >= 0")
     spec.lattice(0)                                   # model, boundary, tau checked there
-    return replace(spec, eps=eps, band=tuple(int(k) for k in spec.band))
+    return replace(spec, eps=eps, band=tuple(int(k) for k in spec.band), earlier_t_max=earlier)
 
 
 #: the built-in studies; "tiny" is for the tests (seconds)
@@ -296,8 +305,8 @@ def spec_from_json(text: str) -> ThermalizationSpec:
     unknown = set(d) - names
     if unknown:
         raise ValueError(f"study.json: unknown fields {sorted(unknown)}")
-    for k in ("eps", "band"):
-        d[k] = tuple(d[k])
+    for k in ("eps", "band", "earlier_t_max"):
+        d[k] = tuple(d.get(k, ()))
     return ThermalizationSpec(**d)
 
 
@@ -320,15 +329,23 @@ class ThermalizationStudy:
             old = spec_from_json(stored.read_text())
             if spec is not None and check_spec(spec).to_json() != old.to_json():
                 new = check_spec(spec)
-                # more eps after the stored ones: the stored points (and their orbits' seeds,
-                # which depend on the point's index) are kept, the new ones added
-                if (replace(new, eps=old.eps).to_json() == old.to_json()
-                        and new.eps[:len(old.eps)] == old.eps):
-                    _atomic_text(stored, new.to_json())
-                    old = new
-                else:
+                # a study may grow: more eps after the stored ones (the stored points and
+                # their orbits' seeds, which depend on the point's index, are kept) and a larger
+                # t_max (the segments so far are kept; the old t_max stays a segment end); a
+                # smaller t_max than stored changes nothing
+                same = replace(new, eps=old.eps, t_max=old.t_max,
+                               earlier_t_max=old.earlier_t_max)
+                if same.to_json() != old.to_json() or new.eps[:len(old.eps)] != old.eps:
                     raise ValueError(f"work_dir: {self.work} holds a different study; use a "
-                                     "new directory (only more eps may be added to a study)")
+                                     "new directory (a study can only get more eps or a "
+                                     "larger t_max)")
+                grown = replace(old, eps=new.eps)
+                if new.t_max > old.t_max:
+                    grown = replace(grown, t_max=new.t_max,
+                                    earlier_t_max=old.earlier_t_max + (old.t_max,))
+                if grown.to_json() != old.to_json():
+                    _atomic_text(stored, grown.to_json())
+                old = grown
             self.spec = old
         else:
             if spec is None:
