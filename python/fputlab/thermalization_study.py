@@ -152,7 +152,7 @@ def check_spec(spec: ThermalizationSpec) -> ThermalizationSpec:
 STUDIES = {
     # alpha-FPUT, eps = alpha sqrt(E/N): 0.06-0.11 spans ~2 decades of T_eq; above ~0.12 the
     # thermal state crosses the barrier r = -1/alpha within T_eq (orbits blow up)
-    "alpha": ThermalizationSpec(eps=(0.11, 0.1, 0.09, 0.08, 0.07, 0.06, 0.05)),
+    "alpha": ThermalizationSpec(eps=(0.11, 0.1, 0.09, 0.08, 0.07, 0.06, 0.05), t_max=3.2e7),
     # beta-FPUT, eps = beta E/N: both sides of the Chirikov overlap; dt = 0.2 keeps |dE/E| <
     # 1e-6 at eps = 1
     "beta": ThermalizationSpec(label="beta", alpha=0.0, beta=1.0, eps_kind="beta",
