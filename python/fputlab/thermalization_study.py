@@ -71,6 +71,9 @@ class ThermalizationSpec:
     window: float | None = None
     threshold: float = 0.1
     n_boot: int = 400
+    #: the t_max values a study had before it was extended (ascending): the segments ended
+    #: there, so they still do (`segment_ends`)
+    earlier_t_max: tuple = ()
 
     def energy(self, eps: float) -> float:
         """Total energy E of the point eps."""
@@ -88,9 +91,12 @@ class ThermalizationSpec:
         return Lattice(self.N, self.alpha, self.model, beta=self.beta, **kw)
 
     def segment_ends(self) -> list[float]:
+        # doubling from t_first, each (earlier) t_max an end of its own, so a study extended
+        # to a larger t_max keeps the segments it has and continues doubling from there
         ends = [self.t_first]
-        while ends[-1] < self.t_max * (1 - 1e-12):
-            ends.append(min(2 * ends[-1], self.t_max))
+        for cap in tuple(self.earlier_t_max) + (self.t_max,):
+            while ends[-1] < cap * (1 - 1e-12):
+                ends.append(min(2 * ends[-1], cap))
         return ends
 
     def window_length(self) -> float:
@@ -129,6 +135,9 @@ def check_spec(spec: ThermalizationSpec) -> ThermalizationSpec:
             raise ValueError(f"{name} must be finite and > 0 (got {v:g})")
     if spec.t_max < spec.t_first:
         raise ValueError(f"t_max ({spec.t_max:g}) must be >= t_first ({spec.t_first:g})")
+    earlier = tuple(float(_real(t, "earlier_t_max")) for t in spec.earlier_t_max)
+    if any(not spec.t_first <= a < b for a, b in zip(earlier, earlier[1:] + (spec.t_max,))):
+        raise ValueError("earlier_t_max must ascend from t_first to below t_max")
     if not 0 < _real(spec.threshold, "threshold") < 1:
         raise ValueError(f"threshold must lie in (0, 1) (got {spec.threshold:g})")
     if method_info(spec.method)["adaptive"]:
@@ -136,14 +145,14 @@ def check_spec(spec: ThermalizationSpec) -> ThermalizationSpec:
     if spec.window is not None and not (_real(spec.window, "window") >= 0):
         raise ValueError("window must be >= 0")
     spec.lattice(0)                                   # model, boundary, tau checked there
-    return replace(spec, eps=eps, band=tuple(int(k) for k in spec.band))
+    return replace(spec, eps=eps, band=tuple(int(k) for k in spec.band), earlier_t_max=earlier)
 
 
 #: the built-in studies; "tiny" is for the tests (seconds)
 STUDIES = {
     # alpha-FPUT, eps = alpha sqrt(E/N): 0.06-0.11 spans ~2 decades of T_eq; above ~0.12 the
     # thermal state crosses the barrier r = -1/alpha within T_eq (orbits blow up)
-    "alpha": ThermalizationSpec(eps=(0.11, 0.1, 0.09, 0.08, 0.07, 0.06, 0.05)),
+    "alpha": ThermalizationSpec(eps=(0.11, 0.1, 0.09, 0.08, 0.07, 0.06, 0.05), t_max=3.2e7),
     # beta-FPUT, eps = beta E/N: both sides of the Chirikov overlap; dt = 0.2 keeps |dE/E| <
     # 1e-6 at eps = 1
     "beta": ThermalizationSpec(label="beta", alpha=0.0, beta=1.0, eps_kind="beta",
@@ -268,16 +277,16 @@ def _run_task(spec_json: str, work: str, point: int, orbit: int, segment: int) -
     its result file; returns the wall time."""
     spec = spec_from_json(spec_json)
     work = Path(work)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     start = None
     if segment:
         prev = _load_task(_task_path(work, point, orbit, segment - 1))
         start = {"steps": prev["steps"], "t": prev["t_end"], "state": prev["state"]}
     res = run_segment(spec, point, orbit, segment, start)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     path = _task_path(work, point, orbit, segment)
     path.parent.mkdir(parents=True, exist_ok=True)
-    _atomic_savez(path, wall=np.float64(wall), **res)
+    _atomic_savez(path, wall=np.float64(wall), cpu=np.float64(cpu), **res)
     if res["failed"]:
         _atomic_text(_failed_path(work, point, orbit),
                      json.dumps({"segment": segment, "message": str(res["message"])}))
@@ -296,8 +305,8 @@ def spec_from_json(text: str) -> ThermalizationSpec:
     unknown = set(d) - names
     if unknown:
         raise ValueError(f"study.json: unknown fields {sorted(unknown)}")
-    for k in ("eps", "band"):
-        d[k] = tuple(d[k])
+    for k in ("eps", "band", "earlier_t_max"):
+        d[k] = tuple(d.get(k, ()))
     return ThermalizationSpec(**d)
 
 
@@ -320,15 +329,23 @@ class ThermalizationStudy:
             old = spec_from_json(stored.read_text())
             if spec is not None and check_spec(spec).to_json() != old.to_json():
                 new = check_spec(spec)
-                # more eps after the stored ones: the stored points (and their orbits' seeds,
-                # which depend on the point's index) are kept, the new ones added
-                if (replace(new, eps=old.eps).to_json() == old.to_json()
-                        and new.eps[:len(old.eps)] == old.eps):
-                    _atomic_text(stored, new.to_json())
-                    old = new
-                else:
+                # a study may grow: more eps after the stored ones (the stored points and
+                # their orbits' seeds, which depend on the point's index, are kept) and a larger
+                # t_max (the segments so far are kept; the old t_max stays a segment end); a
+                # smaller t_max than stored changes nothing
+                same = replace(new, eps=old.eps, t_max=old.t_max,
+                               earlier_t_max=old.earlier_t_max)
+                if same.to_json() != old.to_json() or new.eps[:len(old.eps)] != old.eps:
                     raise ValueError(f"work_dir: {self.work} holds a different study; use a "
-                                     "new directory (only more eps may be added to a study)")
+                                     "new directory (a study can only get more eps or a "
+                                     "larger t_max)")
+                grown = replace(old, eps=new.eps)
+                if new.t_max > old.t_max:
+                    grown = replace(grown, t_max=new.t_max,
+                                    earlier_t_max=old.earlier_t_max + (old.t_max,))
+                if grown.to_json() != old.to_json():
+                    _atomic_text(stored, grown.to_json())
+                old = grown
             self.spec = old
         else:
             if spec is None:
@@ -364,11 +381,13 @@ class ThermalizationStudy:
             return None
         ts, es, err = None, [], 0.0
         failed = self._failed(point)
-        walls = 0.0
+        walls = cpus = 0.0
         for o in range(self.spec.orbits):
             parts = [_load_task(_task_path(self.work, point, o, s)) for s in range(done)
                      if _task_path(self.work, point, o, s).exists()]
             walls += sum(float(p["wall"]) for p in parts)
+            # CPU time (process time; files written before it was recorded have none: nan)
+            cpus += sum(float(p["cpu"]) if "cpu" in p else math.nan for p in parts)
             if o in failed:
                 continue
             es.append(np.concatenate([p["e"] for p in parts]))
@@ -380,7 +399,7 @@ class ThermalizationStudy:
                     [p["energy"], p["energy_min"]]) / E0 - 1))))
         # fewer than 2 orbits left (the rest blew up): no ensemble, e is None
         return {"t": ts, "e": np.stack(es) if len(es) >= 2 else None, "energy_error": err,
-                "segments": done, "wall": walls, "failed": len(failed)}
+                "segments": done, "wall": walls, "cpu": cpus, "failed": len(failed)}
 
     def _point_finished(self, point: int) -> bool:
         d = self.point_data(point)
@@ -447,16 +466,18 @@ class ThermalizationStudy:
             d = self.point_data(p)
             row = {"eps": eps, "E": spec.energy(eps), "t_eq": math.nan,
                    "interval": (math.nan, math.nan), "t_reached": 0.0, "eta_last": math.nan,
-                   "energy_error": math.nan, "wall": 0.0, "orbit_time": 0.0, "failed": 0}
+                   "energy_error": math.nan, "wall": 0.0, "cpu": 0.0, "orbit_time": 0.0,
+                   "failed": 0}
             if d is not None and d["e"] is None:
-                row.update(failed=d["failed"], wall=d["wall"])
+                row.update(failed=d["failed"], wall=d["wall"], cpu=d["cpu"])
             elif d is not None:
                 res = equipartition_time(d["t"], d["e"], threshold=spec.threshold,
                                          n_boot=spec.n_boot, seed=spec.seed + p)
                 row.update(t_eq=res["t_eq"], interval=res["interval"], boot=res["boot"],
                            t=d["t"], eta=res["eta"], t_reached=float(d["t"][-1]),
                            eta_last=float(res["eta"][-1]), energy_error=d["energy_error"],
-                           wall=d["wall"], orbit_time=float(d["t"][-1]) * spec.orbits,
+                           wall=d["wall"], cpu=d["cpu"],
+                           orbit_time=float(d["t"][-1]) * spec.orbits,
                            failed=d["failed"],
                            finished=self._point_finished(p))
             points.append(row)

@@ -60,6 +60,7 @@ def test_interrupted_study_continues_bit_for_bit(tmp_path):
         np.testing.assert_array_equal(pa["eta"], pb["eta"])
         assert pa["t_eq"] == pb["t_eq"]
     assert a["fit"]["exponent"] == b["fit"]["exponent"]
+    assert all(p["cpu"] > 0 and p["wall"] > 0 for p in a["points"])
     ranged = again.results(fit_ranges=[(0.0, 1.0), (0.18, 1.0)])
     assert ranged["range_fits"][0]["exponent"] == b["fit"]["exponent"]
     assert len(ranged["range_fits"]) == 1            # one point in (0.18, 1): no fit
@@ -69,6 +70,31 @@ def test_interrupted_study_continues_bit_for_bit(tmp_path):
         assert pa["t_eq"] == ps["t_eq"] and pa["interval"] == ps["interval"]
     assert summary["fit"]["exponent"] == a["fit"]["exponent"]
     assert tuple(summary["fit"]["interval"]) == a["fit"]["interval"]
+
+
+def test_a_larger_t_max_continues_the_study(tmp_path):
+    short = replace(TINY, eps=(0.05,), t_max=200.0)        # eps = 0.05 does not cross by 200
+    study = ThermalizationStudy(tmp_path / "s", short)
+    study.run()
+    assert not math.isfinite(study.results()["points"][0]["t_eq"])
+    longer = ThermalizationStudy(tmp_path / "s", replace(short, t_max=800.0))
+    assert longer.spec.segment_ends() == [50.0, 100.0, 200.0, 400.0, 800.0]
+    assert longer.spec.earlier_t_max == (200.0,)
+    longer.run()
+    # the same as a study made with that history from the start
+    direct = ThermalizationStudy(tmp_path / "d", replace(short, t_max=800.0,
+                                                         earlier_t_max=(200.0,)))
+    direct.run()
+    a, b = longer.results()["points"][0], direct.results()["points"][0]
+    np.testing.assert_array_equal(a["eta"], b["eta"])
+    assert a["t_reached"] == b["t_reached"] > 200.0
+    # a smaller t_max than stored changes nothing; an uneven grid is refused
+    assert ThermalizationStudy(tmp_path / "s", short).spec.t_max == 800.0
+    assert replace(TINY, t_max=150.0).segment_ends() == [50.0, 100.0, 150.0]
+    assert replace(TINY, t_max=600.0, earlier_t_max=(150.0,)).segment_ends() == \
+        [50.0, 100.0, 150.0, 300.0, 600.0]
+    with pytest.raises(ValueError, match="earlier_t_max"):
+        check_spec(replace(TINY, earlier_t_max=(900.0,)))
 
 
 def test_study_directory_holds_one_study(tmp_path):

@@ -78,12 +78,13 @@ def cmd_thermalization(a) -> int:
           f"{list(sp['band'])}, {sp['orbits']} orbits, {sp['method']} dt = {sp['dt']:g}, "
           f"eta threshold {sp['threshold']:g}")
     print(f"{'eps':>7} {'E':>9} {'T_eq':>9} {'90% interval':>21} {'t reached':>10} "
-          f"{'eta(t)':>7} {'|dE/E|':>8} {'CPU s':>7} {'lost':>4}")
+          f"{'eta(t)':>7} {'|dE/E|':>8} {'wall s':>7} {'CPU s':>7} {'lost':>4}")
     for p in res["points"]:
         lo, hi = p["interval"]
         print(f"{p['eps']:7.4g} {p['E']:9.4g} {_fmt(p['t_eq']):>9} "
               f"{'[' + _fmt(lo) + ', ' + _fmt(hi) + ']':>21} {_fmt(p['t_reached']):>10} "
               f"{_fmt(p['eta_last']):>7} {_fmt(p['energy_error']):>8} {p['wall']:7.1f} "
+              f"{_fmt(p['cpu']):>7} "
               f"{p['failed']:>4}")
     fit = res["fit"]
     if fit is None:
@@ -93,7 +94,8 @@ def cmd_thermalization(a) -> int:
         print(f"fit: T_eq ~ eps^-a, a = {fit['exponent']:.3f}, 90% interval "
               f"[{_fmt(lo)}, {_fmt(hi)}] over {fit['points']} points")
     print("(lost: orbits that crossed the alpha barrier and left the ensemble; |dE/E|: the "
-          "largest relative energy error of the kept orbits)")
+          "largest relative energy error of the kept orbits; wall and CPU (process) seconds "
+          "summed over the point's tasks, CPU '-' where older task files did not record it)")
     for f in res["range_fits"]:
         lo, hi = f["interval"]
         print(f"fit over {f['range'][0]:g} <= eps <= {f['range'][1]:g}: a = {f['exponent']:.3f}, "
