@@ -182,9 +182,13 @@ def chaos_study(work_dir=None, *, full=False, t_until=None, workers=None, schedu
     30 realisations, N = 4..64, t_end = 1e8), continued in `work_dir` (default
     out_dir/chaos_study) up to t_until (default 1e8 with full, else 1e5). Orbits that already
     reached t_until are not recomputed, so a second call redraws in seconds."""
-    from .chaos.study import ChaosStudy
+    from dataclasses import asdict
+
+    from .chaos.study import ChaosStudy, StudySpec
+    # every parameter of the paper's study, not only the ones given: a work directory holding
+    # a study with other parameters is refused instead of being drawn as Figs. 12-14
     study = ChaosStudy(work_dir if work_dir is not None else os.path.join(out_dir, "chaos_study"),
-                       **params)
+                       **{**asdict(StudySpec()), **params})
     t_until = (study.spec.t_end if full else min(QUICK_STUDY_T, study.spec.t_end)) \
         if t_until is None else float(t_until)
     if study.reached() < min(t_until, study.spec.t_end):

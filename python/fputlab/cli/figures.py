@@ -1,6 +1,8 @@
 """`fputlab figures`: the paper's figures."""
 from __future__ import annotations
 
+import os
+
 from .parsers import _alias, _sub
 
 def cmd_figures(a):
@@ -10,6 +12,16 @@ def cmd_figures(a):
     if unknown:
         raise ValueError(f"--only: there is no figure {', '.join(map(str, unknown))} (the paper's "
                          "figures are 1-14)")
+    if a.t_end is not None:     # checked now, not after minutes of Figs. 1-11
+        from .._validate import _positive_real
+        _positive_real(a.t_end, "--t-end")
+    if a.work_dir and os.path.exists(os.path.join(a.work_dir, "study.json")) and \
+            (only is None or only & {12, 13, 14}):
+        # a study with other parameters is refused now, not after Figs. 1-11
+        from dataclasses import asdict
+
+        from ..chaos.study import ChaosStudy, StudySpec
+        ChaosStudy(a.work_dir, **asdict(StudySpec()))
     study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
              "scheduler": a.scheduler}
     for p in all_figures(a.out_dir, full=a.full, only=only, **study):
