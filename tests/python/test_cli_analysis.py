@@ -189,3 +189,11 @@ def test_figures_checks_t_end_and_the_study_before_drawing(tmp_path, capsys):
         assert main(["figures", "--out-dir", str(tmp_path / "figs"), *argv]) == 2
         assert msg in capsys.readouterr().err
     assert not (tmp_path / "figs").exists()
+
+
+def test_figures_report_each_figure_as_it_goes(tmp_path, capsys):
+    assert main(["figures", "--out-dir", str(tmp_path), "--only", "7", "9"]) == 0
+    cap = capsys.readouterr()
+    assert cap.err.splitlines() == ["fputlab: figure 7 (1/2) ...", "fputlab: figure 9 (2/2) ..."]
+    assert cap.out.split() == [str(tmp_path / "fig07_bifurcation.png"),
+                               str(tmp_path / "fig09_phase_portraits.png")]

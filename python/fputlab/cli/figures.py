@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import sys
 
 from .parsers import _alias, _sub
 
@@ -24,8 +25,19 @@ def cmd_figures(a):
         ChaosStudy(a.work_dir, **asdict(StudySpec()))
     study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
              "scheduler": a.scheduler}
-    for p in all_figures(a.out_dir, full=a.full, only=only, **study):
-        print(p)
+    total = len(only) if only else 14
+    done = []
+
+    def report(k, path):
+        # what is being made now (stderr; some figures take minutes), each file when written
+        if path is None:
+            print(f"fputlab: figure {k} ({len(done) + 1}/{total}) ...", file=sys.stderr,
+                  flush=True)
+        else:
+            done.append(path)
+            print(path, flush=True)
+
+    all_figures(a.out_dir, full=a.full, only=only, report=report, **study)
     return 0
 
 
