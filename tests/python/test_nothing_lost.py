@@ -314,3 +314,28 @@ def test_realisations_are_checked_against_memory(monkeypatch):
         R.realisation_quadratics(R=10**8)
     with pytest.raises(TypeError, match="R must be an integer"):
         R.realisation_quadratics(R=1e8)
+
+
+def test_ctrl_c_while_the_command_starts_is_one_line_not_a_traceback():
+    """SIGINT in the first ~0.3 s (while fputlab is imported) showed a traceback."""
+    import shutil
+    import signal
+    import time
+    script = shutil.which("fputlab", path=os.path.dirname(sys.executable))
+    forms = [[sys.executable, "-m", "fputlab", "methods"]] + ([[script, "methods"]] if script
+                                                             else [])
+    for delay in (0.05, 0.15, 0.3):
+        for cmd in forms:
+            p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                 preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+            time.sleep(delay)
+            p.send_signal(signal.SIGINT)
+            out, err = p.communicate(timeout=60)
+            assert "Traceback" not in err, (delay, cmd, err)
+            assert p.returncode in (0, 130, -signal.SIGINT), (delay, cmd, p.returncode, err)
+            if p.returncode == 130:
+                assert err.strip() == "fputlab: interrupted", err
+
+
+def test_importing_fputlab_keeps_keyboard_interrupt_for_programs():
+    assert not fputlab._command_line_start()      # pytest is not the command: re-raised
