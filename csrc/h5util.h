@@ -59,10 +59,6 @@ int fpl_results_save_pending(const fpl_results *results, hid_t checkpoint_file);
 /* Check a checkpoint's bytes against the size and checksum in its header (checkpoint.c), before
  * HDF5 parses it: FPL_OK or FPL_ERR_IO with the message set. */
 int fpl_checkpoint_verify_bytes(const char *path);
-/* The file a path finally names, symbolic links followed (also a dangling last one), so that a
- * rename onto it keeps the links; and fsync of a file by name (checkpoint.c). */
-int fpl_resolve_target(const char *path, char *out, size_t len);
-int fpl_fsync_path(const char *path);
-void fpl_remove_stale_temporaries(const char *path, const char *tag);
+/* The file-system helpers (fsync, links, stale temporaries) are in fsutil.h. */
 
 #endif

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "fsutil.h"
 #include "h5util.h"
 #include <hdf5_hl.h>   /* dimension scales (H5DS) */
 #include "internal.h"

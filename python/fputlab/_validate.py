@@ -78,3 +78,13 @@ def _int(value, name: str, bounds: tuple = C_INT) -> int:
     if not lo <= value <= hi:
         raise ValueError(f"{name} = {value} is out of range (it must lie in [{lo}, {hi}])")
     return value
+
+
+def _renamed(value, old_value, name: str, old: str):
+    """One name per idea: `old` is the deprecated spelling of `name`; given, it warns
+    (DeprecationWarning, for one release) and its value is used."""
+    if old_value is None:
+        return value
+    import warnings
+    warnings.warn(f"{old} is deprecated: use {name}", DeprecationWarning, stacklevel=3)
+    return old_value

@@ -14,7 +14,7 @@ from ._arrays import as_float_array
 from ._engine import check_ensemble, run_calls
 from ._errors import Interrupted
 from ._pacing import Pacer, first_span
-from ._validate import _positive_real, _real
+from ._validate import _positive_real, _real, _renamed
 # CRITERIA stays importable from here (fputlab.blowup.CRITERIA)
 from .integrate import CRITERIA, Integrator, check_steps, method_info  # noqa: F401
 from .lattice import Lattice
@@ -41,17 +41,17 @@ class Blowup(ResultMixin):
     params: dict = field(default_factory=dict)
 
 
-def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt: float | None = None,
-                rtol: float = ll.RTOL, atol: float = ll.ATOL, y0=None, criteria=None,
-                progress: bool = False) -> Blowup:
-    """Integrate until a stopping criterion fires (a blow-up) or `t_max`.
+def blowup_time(lattice: Lattice, t_end: float | None = None, *, method: str = "yoshida4",
+                dt: float | None = None, rtol: float = ll.RTOL, atol: float = ll.ATOL, y0=None,
+                criteria=None, progress: bool = False, t_max: float | None = None) -> Blowup:
+    """Integrate until a stopping criterion fires (a blow-up) or `t_end`.
 
     Parameters
     ----------
     lattice : Lattice
         The lattice (typically model 3 with tau above tau_c).
-    t_max : float
-        Longest time to integrate (finite, > 0).
+    t_end : float
+        Longest time to integrate (finite, > 0). (`t_max`: its old spelling, deprecated.)
     method : str, optional
         Integrator name; the splitting schemes locate the crossing inside the step, ARKODE and
         CVODE by root-finding ("gsl-rk8pd" refuses criteria).
@@ -67,6 +67,8 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
         cubic barrier 1/alpha, `default_criteria`).
     progress : bool, optional
         A progress bar with ETA (tqdm.auto).
+    t_max : float, optional
+        Deprecated spelling of `t_end` (warns; removed in the next release).
 
     Returns
     -------
@@ -79,13 +81,16 @@ def blowup_time(lattice: Lattice, t_max: float, *, method: str = "yoshida4", dt:
         The state became NaN/Inf without a criterion firing: an integration failure, not a
         located blow-up.
     """
-    t_max = _positive_real(t_max, "t_max")
+    t_end = _renamed(t_end, t_max, "t_end", "t_max")
+    if t_end is None:
+        raise TypeError("blowup_time() needs t_end, the longest time to integrate")
+    t_max = _positive_real(t_end, "t_end")
     crit = default_criteria(lattice) if criteria is None else criteria
     y = lattice.mode_state() if y0 is None else as_float_array(y0, "y0", (2 * lattice.N,))
     if dt is None and not method_info(method)["adaptive"]:
         dt = ll.DT
     if not method_info(method)["adaptive"]:
-        check_steps(t_max, _real(dt, "dt"), "t_max", t_max)
+        check_steps(t_max, _real(dt, "dt"), "t_end", t_max)
     # the criteria belong to this run (the lattice stays untouched)
     integ = Integrator(lattice, y, method=method, dt=dt, rtol=rtol, atol=atol, criteria=crit)
     from tqdm.auto import tqdm
@@ -154,23 +159,24 @@ def _one(args):
     return BlowupRecord(tau, N, seed, res.blew_up, res.time, realisation_tau_c(N, seed, alpha))
 
 
-def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
+def blowup_sweep(tau=None, Ns=(64,), realisations: int = 20, *, t_end: float = 1e4,
                  model: str = "nonlinear", alpha: float = 0.25, method: str = "yoshida4",
                  first_seed: int = 1, workers: int | None = None, scheduler=None,
-                 progress: bool = False, **kwargs) -> dict:
-    """Probability of blow-up before `t_max` versus tau (and N) over disorder realisations, run
+                 progress: bool = False, taus=None, t_max: float | None = None,
+                 **kwargs) -> dict:
+    """Probability of blow-up before `t_end` versus tau (and N) over disorder realisations, run
     in parallel processes.
 
     Parameters
     ----------
-    taus : sequence of float
-        Tolerances (percent).
+    tau : float or sequence of float
+        Tolerances (percent). (`taus`: its old spelling, deprecated.)
     Ns : sequence of int, optional
         Lattice sizes.
     realisations : int, optional
         Disorder draws per (tau, N), seeds ``first_seed, first_seed + 1, ...``.
-    t_max : float, optional
-        Longest time per run.
+    t_end : float, optional
+        Longest time per run. (`t_max`: its old spelling, deprecated.)
     model : str, optional
         Lattice model (default "nonlinear", the paper's).
     alpha : float, optional
@@ -185,6 +191,10 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
         Run on a Dask cluster instead (the ensemble engine, `fputlab.ensemble.run_calls`).
     progress : bool, optional
         A progress bar over the runs (tqdm.auto).
+    taus : sequence of float, optional
+        Deprecated spelling of `tau` (warns; removed in the next release).
+    t_max : float, optional
+        Deprecated spelling of `t_end` (warns; removed in the next release).
     **kwargs
         Passed to `blowup_time` (dt, rtol, atol, criteria).
 
@@ -195,11 +205,15 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
         (`BlowupRecord`: tau, N, seed, blew_up, time, tau_c, in the order tau, N, seed) where
         tau_c is the realisation's own two-mode threshold (B~ < 0 above it), and
         ``prediction_accuracy``: the share of runs where "tau > tau_c" agrees with "blew up
-        before t_max". Plot with `fputlab.plotting.plot_blowup_sweep_figure` or
+        before t_end" (``t_end``; ``t_max`` too, deprecated). Plot with `fputlab.plotting.plot_blowup_sweep_figure` or
         `fputlab.plotting.plot_blowup_sweep`.
     """
     from tqdm.auto import tqdm
 
+    taus = _renamed(tau, taus, "tau", "taus")
+    t_max = _renamed(t_end, t_max, "t_end", "t_max")
+    if taus is None:
+        raise TypeError("blowup_sweep() needs tau, the tolerances in percent")
     taus, Ns, realisations = check_ensemble(taus, Ns, realisations)
     tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
              for tau in taus for N in Ns for r in range(realisations)]
@@ -219,5 +233,5 @@ def blowup_sweep(taus, Ns=(64,), realisations: int = 20, *, t_max: float = 1e4,
             prob[i, j] = np.mean(hits)
     agree = [(r.tau > r.tau_c) == r.blew_up for r in records if np.isfinite(r.tau_c)]
     return {"tau": np.array(taus), "N": np.array(Ns), "probability": prob, "records": records,
-            "t_max": t_max, "realisations": realisations,
+            "t_end": t_max, "t_max": t_max, "realisations": realisations,
             "prediction_accuracy": float(np.mean(agree)) if agree else float("nan")}

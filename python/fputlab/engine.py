@@ -31,7 +31,7 @@ import numpy as np
 from ._engine import chunks, run_calls, total_threads
 
 __all__ = ["StudySpec", "StudyKind", "StudyResult", "KINDS", "get_kind", "run_study",
-           "wilson_interval"]
+           "load_study", "wilson_interval"]
 
 #: the study kinds: name -> "module:attribute" of its StudyKind. One line per kind.
 KINDS = {
@@ -288,6 +288,23 @@ def run_study(kind: str, grid: dict, settings: dict, t_end: float, *, work_dir=N
 HORIZONS = (1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12)
 
 
+def load_study(work_dir) -> StudyResult:
+    """The study in `work_dir` as far as it has been computed, merged from its task files
+    without computing anything and without the lock (a runner may be at work)."""
+    from .io.store import StudyStore
+    store = StudyStore.reader(work_dir)
+    d = store.doc
+    k = get_kind(d["kind"])
+    t_end = store.t_end()
+    spec = StudySpec(d["kind"], {dim: list(v) for dim, v in d["grid"].items()}, d["settings"],
+                     t_end if t_end is not None else math.nan)
+    if spec.key() != d.get("key"):
+        raise ValueError(f"{store.path}: the study's key does not match its description "
+                         "(written by another version of the kind?)")
+    ds = _merge(k, spec, spec.tasks(), store, {})
+    return StudyResult(k.name, ds, str(store.path))
+
+
 def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
     t_end = spec.t_end
     if store is not None:
@@ -382,7 +399,8 @@ def _merge(k, spec, tasks, store, memory):
     t_reached = np.full(shape, np.nan)
     finished = np.zeros(shape, dtype=bool)
     for c in tasks:
-        rep = store.read_task(task_id(c), c) if store is not None else memory.get(task_id(c))
+        rep = (store.read_task(task_id(c), c, state=False) if store is not None
+               else memory.get(task_id(c)))
         if rep is None:
             continue
         at = tuple(index[d][c[d]] for d in k.dims)

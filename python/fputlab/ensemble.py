@@ -3,9 +3,9 @@ run as independent tasks, on a local process pool or on a Dask cluster, resumabl
 directory of per-task HDF5 files, merged into one HDF5 file at the end.
 
     >>> from fputlab.ensemble import run_sweep, load_sweep
-    >>> out = run_sweep("blowup", taus=[10, 20], Ns=[64], realisations=50, t_max=1e4,
+    >>> out = run_sweep("blowup", tau=[10, 20], Ns=[64], realisations=50, t_end=1e4,
     ...                 work_dir="sweep.d", out="sweep.h5")                  # all local cores
-    >>> out = run_sweep("chaos", [10], [8, 16], 30, t_max=1e6, work_dir="c.d", out="c.h5",
+    >>> out = run_sweep("chaos", [10], [8, 16], 30, t_end=1e6, work_dir="c.d", out="c.h5",
     ...                 scheduler="tcp://10.0.0.1:8786")                      # a Dask cluster
     >>> load_sweep("sweep.h5")["blew_up"]
 
@@ -33,6 +33,8 @@ import numpy as np
 
 from ._lowlevel import VERSION
 from ._engine import check_ensemble, process_pool, run_calls  # noqa: F401 (public here too)
+from ._validate import _renamed
+from .io.atomic import write_h5_atomic
 
 #: kinds of task
 KINDS = ("blowup", "chaos")
@@ -231,19 +233,6 @@ def _run_groups(todo, spec, workers, scheduler):
 
 # ---- per-task files ---------------------------------------------------------------------------
 
-def _write_atomic(path: Path, fill) -> None:
-    """Write an HDF5 file under a temporary name in the same directory, then os.replace it."""
-    import h5py
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with h5py.File(tmp, "w") as f:
-            fill(f)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
 def _write_task(path: Path, rec: dict, spec: SweepSpec, key: str) -> None:
 
     def fill(f):
@@ -254,7 +243,7 @@ def _write_task(path: Path, rec: dict, spec: SweepSpec, key: str) -> None:
             f.attrs[name] = rec[name]
         for name in SERIES.get(rec["kind"], ()):
             f.create_dataset(name, data=rec[name])
-    _write_atomic(path, fill)
+    write_h5_atomic(path, fill)
 
 
 def _read_task(path: Path, task: Task, key: str) -> dict | None:
@@ -293,11 +282,11 @@ def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, met
     try:
         taus = [float(t) for t in np.atleast_1d(np.asarray(taus, dtype=float))]
     except (TypeError, ValueError):
-        raise ValueError(f"taus must be numbers (got {taus!r})") from None
+        raise ValueError(f"tau must be numbers (got {taus!r})") from None
     if not taus:
-        raise ValueError("taus must not be empty")
+        raise ValueError("tau must not be empty")
     if not all(math.isfinite(t) and t >= 0 for t in taus):
-        raise ValueError(f"taus must be finite and >= 0 (got {taus})")
+        raise ValueError(f"tau must be finite and >= 0 (got {taus})")
     try:
         Ns_arr = np.atleast_1d(np.asarray(Ns))
         if Ns_arr.size and not np.all(np.equal(np.mod(Ns_arr.astype(float), 1), 0)):
@@ -316,9 +305,9 @@ def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, met
     try:
         t_max = float(t_max)
     except (TypeError, ValueError):
-        raise ValueError(f"t_max must be a number (got {t_max!r})") from None
+        raise ValueError(f"t_end must be a number (got {t_max!r})") from None
     if not (math.isfinite(t_max) and t_max > 0):
-        raise ValueError(f"t_max must be finite and > 0 (got {t_max:g})")
+        raise ValueError(f"t_end must be finite and > 0 (got {t_max:g})")
     if model not in MODELS:
         raise ValueError(f"model {model!r} is unknown (known: {', '.join(MODELS)})")
     if model == "homogeneous" and any(t != 0 for t in taus):
@@ -366,10 +355,11 @@ def _run_dask(todo, spec, scheduler):
 
 # ---- the sweep --------------------------------------------------------------------------------
 
-def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir, out,
-              model: str = "nonlinear", alpha: float = 0.25, first_seed: int = 1,
-              method: str | None = None, workers: int | None = None, scheduler=None,
-              progress: bool = True, **task_options) -> dict:
+def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
+              t_end: float | None = None, work_dir=None, out=None, model: str = "nonlinear",
+              alpha: float = 0.25, first_seed: int = 1, method: str | None = None,
+              workers: int | None = None, scheduler=None, progress: bool = True, taus=None,
+              t_max: float | None = None, **task_options) -> dict:
     """Run every (tau, N, seed) task of a sweep that has no result in `work_dir` yet, then merge
     all results into one HDF5 file (one row per task, in the order tau, N, seed).
 
@@ -380,16 +370,16 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
     Parameters
     ----------
     kind : {"blowup", "chaos"}
-        "blowup": `fputlab.blowup.blowup_time` up to `t_max`; "chaos":
-        `fputlab.chaos.lyapunov` up to ``t_end = t_max``.
-    taus : sequence of float
-        Variabilities in percent.
+        "blowup": `fputlab.blowup.blowup_time` up to `t_end`; "chaos":
+        `fputlab.chaos.lyapunov` up to `t_end`.
+    tau : sequence of float
+        Variabilities in percent. (`taus`: its old spelling, deprecated.)
     Ns : sequence of int
         Lattice sizes.
     realisations : int
         Realisations per (tau, N), seeds ``first_seed .. first_seed + realisations - 1``.
-    t_max : float
-        Final time of every task.
+    t_end : float
+        Final time of every task. (`t_max`: its old spelling, deprecated.)
     work_dir : str or path
         Folder of the per-task result files (created; reused to resume).
     out : str or path
@@ -409,6 +399,10 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
         Run the tasks on Dask instead of the local pool.
     progress : bool, optional
         A progress bar over the tasks (tqdm.auto).
+    taus : sequence of float, optional
+        Deprecated spelling of `tau` (warns; removed in the next release).
+    t_max : float, optional
+        Deprecated spelling of `t_end` (warns; removed in the next release).
     **task_options
         Passed to `blowup_time` / `lyapunov` (e.g. dt, rtol, n_samples).
 
@@ -427,10 +421,14 @@ def run_sweep(kind: str, taus, Ns, realisations: int, *, t_max: float, work_dir,
 
     Examples
     --------
-    >>> out = run_sweep("blowup", [10, 20], [64], 50, t_max=1e4,
+    >>> out = run_sweep("blowup", [10, 20], [64], 50, t_end=1e4,
     ...                 work_dir="sweep.d", out="sweep.h5")        # doctest: +SKIP
     >>> out["summary"]                                             # doctest: +SKIP
     """
+    taus = _renamed(tau, taus, "tau", "taus")
+    t_max = _renamed(t_end, t_max, "t_end", "t_max")
+    if taus is None or Ns is None or realisations is None or t_max is None:
+        raise TypeError("run_sweep() needs tau, Ns, realisations and t_end")
     taus, Ns, realisations, spec = _validate(kind, taus, Ns, realisations, t_max, model, alpha,
                                              first_seed, method, workers, task_options)
     if work_dir is None or out is None:
@@ -525,7 +523,7 @@ def _write_merged(path: Path, kind: str, records: list[dict], params: dict) -> N
         if kind in SERIES:
             f.create_dataset("n_samples", data=np.array([r["t"].size for r in records],
                                                          dtype=np.int64))
-    _write_atomic(path, fill)
+    write_h5_atomic(path, fill)
 
 
 def load_sweep(path) -> dict:

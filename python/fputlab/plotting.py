@@ -337,7 +337,7 @@ def plot_blowup_sweep(sweep: dict, ax=None, *, kind: str = "probability",
             ax.plot(sweep["tau"], pred, "s--", alpha=0.7, color=line.get_color(),
                     label=f"N = {N}: τ > own $\\tau_c$ (two-mode)")
     ax.set_xlabel("τ (%)")
-    ax.set_ylabel(f"P(blow-up before t = {sweep['t_max']:g})")
+    ax.set_ylabel(f"P(blow-up before t = {sweep.get('t_end', sweep.get('t_max')):g})")
     ax.set_ylim(-0.05, 1.05)
     if legend is not None:
         ax.legend(loc=legend, frameon=False, fontsize=8)

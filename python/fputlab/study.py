@@ -2,8 +2,7 @@
 the next release."""
 import warnings
 
-from .chaos.study import (HORIZONS, ChaosStudy, StudySpec, advance_group,  # noqa: F401
-                          advance_orbit)
+from .chaos.study import HORIZONS, ChaosStudy, StudySpec, migrate_legacy  # noqa: F401
 
 __all__ = ["ChaosStudy", "StudySpec", "HORIZONS"]
 

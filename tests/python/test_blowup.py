@@ -66,7 +66,7 @@ def test_nan_without_event_is_a_failure_not_success():
 
 
 def test_blowup_sweep_counts_realisations():
-    out = blowup.blowup_sweep([0.0, 20.0], Ns=(32,), realisations=3, t_max=5e3, workers=2)
+    out = blowup.blowup_sweep([0.0, 20.0], Ns=(32,), realisations=3, t_end=5e3, workers=2)
     assert out["probability"].shape == (2, 1)
     assert out["probability"][0, 0] == 0.0
     assert len(out["records"]) == 6
@@ -88,8 +88,12 @@ def test_bad_criteria():
         blowup.blowup_time(lat, 10.0, criteria=[("energy", -1.0)])
     with pytest.raises(ValueError, match="mode"):
         blowup.blowup_time(lat, 10.0, criteria=[("mode_energy", 1.0, 9)])
-    with pytest.raises(ValueError, match="t_max"):
+    with pytest.raises(ValueError, match="t_end"):
         blowup.blowup_time(lat, -1.0)
+    # the old spelling still works, with a warning, for one release
+    with pytest.warns(DeprecationWarning, match="t_max is deprecated: use t_end"):
+        old = blowup.blowup_time(lat, t_max=10.0)
+    assert old.t_reached == blowup.blowup_time(lat, 10.0).t_reached
 
 
 def test_recurrence_and_localisation_measures():

@@ -120,9 +120,9 @@ def test_chaos_figures_from_a_resumable_study(tmp_path):
     for name in ("fig12_chaos_N4_8_16.png", "fig13_chaos_N32_64.png",
                  "fig14_chaotic_fraction.png"):
         assert (tmp_path / name).stat().st_size > 10_000
-    stamps = {p.name: p.stat().st_mtime_ns for p in work.glob("orbit_*.npz")}
+    stamps = {p.name: p.stat().st_mtime_ns for p in work.glob("tasks/*.h5")}
     assert len(stamps) == 150                      # 30 realisations x N = 4, 8, 16, 32, 64
     assert main(args) == 0
-    assert stamps == {p.name: p.stat().st_mtime_ns for p in work.glob("orbit_*.npz")}
+    assert stamps == {p.name: p.stat().st_mtime_ns for p in work.glob("tasks/*.h5")}
     from fputlab.chaos.study import ChaosStudy
     assert ChaosStudy(work).reached() == 300.0

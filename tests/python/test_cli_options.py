@@ -134,7 +134,7 @@ def test_blowup_defaults_are_blowup_sweeps():
     one = parse_args(["blowup", "--tau", "20"])
     assert not one.sweep and one.tau == 20.0 and one.realisations == 1
     assert (one.model, one.alpha, one.t_end, one.method) == (
-        BLOWUP_SWEEP["model"], BLOWUP_SWEEP["alpha"], BLOWUP_SWEEP["t_max"],
+        BLOWUP_SWEEP["model"], BLOWUP_SWEEP["alpha"], BLOWUP_SWEEP["t_end"],
         BLOWUP_SWEEP["method"])
     assert one.method == BLOWUP_TIME["method"] and one.dt == BLOWUP_TIME["dt"]
     assert [one.N] == list(BLOWUP_SWEEP["Ns"]) and one.N == LATTICE["N"]
@@ -142,7 +142,7 @@ def test_blowup_defaults_are_blowup_sweeps():
     assert many.sweep and many.realisations == BLOWUP_SWEEP["realisations"]
     assert many.N == list(BLOWUP_SWEEP["Ns"]) and many.seed == BLOWUP_SWEEP["first_seed"]
     assert (many.model, many.alpha, many.t_end, many.method, many.dt) == (
-        BLOWUP_SWEEP["model"], BLOWUP_SWEEP["alpha"], BLOWUP_SWEEP["t_max"],
+        BLOWUP_SWEEP["model"], BLOWUP_SWEEP["alpha"], BLOWUP_SWEEP["t_end"],
         BLOWUP_SWEEP["method"], None)
     assert parse_args(["blowup", "--tau", "20", "--realisations", "3"]).sweep
 
@@ -165,7 +165,7 @@ def test_sweep_defaults_are_run_sweeps(kind, fn):
     assert (a.model, a.alpha, a.seed, a.method) == (
         RUN_SWEEP["model"], RUN_SWEEP["alpha"], RUN_SWEEP["first_seed"], RUN_SWEEP["method"])
     assert a.N == list(fn["Ns"]) and a.realisations == fn["realisations"]
-    assert a.t_end == fn.get("t_max", fn.get("t_end"))
+    assert a.t_end == fn["t_end"]
     if kind == "chaos":
         assert a.tau == [FRACTION["tau"]]
 
@@ -216,7 +216,7 @@ def test_blowup_sweep_records_are_named_and_keep_their_file_layout(tmp_path, cap
 
 
 def test_blowup_record_fields_and_arrays():
-    out = blowup.blowup_sweep([0.0, 40.0], Ns=[8], realisations=1, t_max=200.0, workers=1)
+    out = blowup.blowup_sweep([0.0, 40.0], Ns=[8], realisations=1, t_end=200.0, workers=1)
     recs = out["records"]
     assert all(isinstance(r, blowup.BlowupRecord) for r in recs)
     assert blowup.BlowupRecord._fields == ("tau", "N", "seed", "blew_up", "time", "tau_c")

@@ -14,16 +14,16 @@ from fputlab.chaos import lyapunov
 from fputlab.ensemble import COLUMNS, SERIES, load_sweep, run_sweep
 
 # tau = 50 % makes some of the tiny lattices blow up before t = 500, tau = 10 % none
-BLOWUP = dict(kind="blowup", taus=[10.0, 50.0], Ns=[8, 16], realisations=3, t_max=500.0)
-CHAOS = dict(kind="chaos", taus=[10.0], Ns=[8], realisations=2, t_max=300.0, n_samples=30)
+BLOWUP = dict(kind="blowup", tau=[10.0, 50.0], Ns=[8, 16], realisations=3, t_end=500.0)
+CHAOS = dict(kind="chaos", tau=[10.0], Ns=[8], realisations=2, t_end=300.0, n_samples=30)
 
 
 def _sweep(tmp_path, name, spec, **kw):
-    return run_sweep(spec["kind"], spec["taus"], spec["Ns"], spec["realisations"],
-                     t_max=spec["t_max"], work_dir=tmp_path / f"{name}.d",
+    return run_sweep(spec["kind"], spec["tau"], spec["Ns"], spec["realisations"],
+                     t_end=spec["t_end"], work_dir=tmp_path / f"{name}.d",
                      out=tmp_path / f"{name}.h5", progress=False,
                      **{k: v for k, v in spec.items()
-                        if k not in ("kind", "taus", "Ns", "realisations", "t_max")}, **kw)
+                        if k not in ("kind", "tau", "Ns", "realisations", "t_end")}, **kw)
 
 
 def _assert_same(a: dict, b: dict, ignore_attrs=()):
@@ -63,7 +63,7 @@ def test_local_pool_equals_dask(tmp_path, dask_cluster, spec):
     # a Client for the blow-up sweep, the scheduler's tcp:// address for the chaos sweep
     sched = client if spec["kind"] == "blowup" else cluster.scheduler_address
     remote = _sweep(tmp_path, "dask", spec, scheduler=sched)
-    n = len(spec["taus"]) * len(spec["Ns"]) * spec["realisations"]
+    n = len(spec["tau"]) * len(spec["Ns"]) * spec["realisations"]
     assert local["n_tasks"] == remote["n_tasks"] == n
     assert local["computed"] == remote["computed"] == n and not local["failed"] and not remote["failed"]
     for r1, r2 in zip(local["records"], remote["records"]):     # task by task
@@ -101,7 +101,7 @@ def test_resume_recomputes_only_missing_tasks(tmp_path):
     _assert_same(merged1, load_sweep(tmp_path / "s.h5"))
     assert not list(work.glob(".*tmp"))                  # no temporary files left behind
     # a different t_max is a different sweep: nothing is reused
-    other = run_sweep("blowup", [10.0], [8], 1, t_max=200.0, work_dir=work,
+    other = run_sweep("blowup", [10.0], [8], 1, t_end=200.0, work_dir=work,
                       out=tmp_path / "o.h5", progress=False)
     assert other["skipped"] == 0 and other["computed"] == 1
 
@@ -153,25 +153,25 @@ def test_merged_chaos_matches_direct_call(tmp_path):
 
 
 @pytest.mark.parametrize("change, name", [
-    (dict(taus=[]), "taus"),
+    (dict(tau=[]), "tau"),
     (dict(Ns=[]), "Ns"),
     (dict(Ns=[1]), "Ns"),
     (dict(realisations=0), "realisations"),
     (dict(kind="lyapunov"), "kind"),
-    (dict(t_max=0.0), "t_max"),
-    (dict(t_max=-5.0), "t_max"),
-    (dict(t_max=float("inf")), "t_max"),
-    (dict(taus=[-1.0]), "taus"),
+    (dict(t_end=0.0), "t_end"),
+    (dict(t_end=-5.0), "t_end"),
+    (dict(t_end=float("inf")), "t_end"),
+    (dict(tau=[-1.0]), "tau"),
     (dict(model="quadratic"), "model"),
     (dict(workers=0), "workers"),
     (dict(n_samplez=5), "n_samplez"),
     (dict(method="euler"), "euler"),
 ])
 def test_bad_input_names_the_parameter(tmp_path, change, name):
-    args = dict(kind="blowup", taus=[10.0], Ns=[8], realisations=1, t_max=100.0,
+    args = dict(kind="blowup", tau=[10.0], Ns=[8], realisations=1, t_end=100.0,
                 work_dir=tmp_path / "w", out=tmp_path / "o.h5")
     args.update(change)
-    kind, taus, Ns, R = (args.pop(k) for k in ("kind", "taus", "Ns", "realisations"))
+    kind, taus, Ns, R = (args.pop(k) for k in ("kind", "tau", "Ns", "realisations"))
     with pytest.raises(ValueError, match=name):
         run_sweep(kind, taus, Ns, R, **args)
     assert not os.path.exists(tmp_path / "o.h5")
@@ -183,7 +183,7 @@ def test_failed_tasks_are_reported_and_retried(tmp_path, dask_cluster, engine):
     blowup_time): the sweep goes on, reports them, writes no file for them, and retries them."""
     kw = dict(workers=2) if engine == "local" else dict(scheduler=dask_cluster[1])
     args = ("blowup", [50.0], [16], 3)
-    opts = dict(t_max=500.0, work_dir=tmp_path / "w", out=tmp_path / "f.h5", progress=False,
+    opts = dict(t_end=500.0, work_dir=tmp_path / "w", out=tmp_path / "f.h5", progress=False,
                 criteria=[])
     out = run_sweep(*args, **opts, **kw)
     assert out["computed"] == 1 and [f.task.seed for f in out["failed"]] == [1, 3]

@@ -478,9 +478,9 @@ def test_bad_input_that_used_to_pass_quietly(capsys):
     with pytest.raises(ValueError, match="disorder"):
         fputlab.Lattice(8, 0.25, "nonlinear", disorder="cauchy")
     with pytest.raises(ValueError, match="realisations"):
-        fputlab.blowup.blowup_sweep([10.0], realisations=0, t_max=1.0)
+        fputlab.blowup.blowup_sweep([10.0], realisations=0, t_end=1.0)
     with pytest.raises(ValueError, match="taus"):
-        fputlab.blowup.blowup_sweep([], realisations=2, t_max=1.0)
+        fputlab.blowup.blowup_sweep([], realisations=2, t_end=1.0)
     with pytest.raises(ValueError, match="realisations"):
         fputlab.chaos.chaotic_fraction(Ns=[4], realisations=0, t_end=1.0)
     with pytest.raises(ValueError, match="Ns"):

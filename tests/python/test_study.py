@@ -86,10 +86,10 @@ def test_study_refuses_other_parameters_and_bad_input(tmp_path):
         s.run(t_until=-1.0, progress=False)
     # a damaged orbit file is reported, never silently replaced
     s.run(progress=False, workers=1)
-    f = next(work.glob("orbit_*.npz"))
+    f = next(work.glob("tasks/*.h5"))
     f.write_bytes(f.read_bytes()[:50])
     with pytest.raises(ValueError, match="unreadable"):
-        s.results()
+        ChaosStudy(work).results()
 
 
 def test_batched_and_single_orbit_pieces_give_the_same_orbits(tmp_path):
@@ -110,3 +110,91 @@ def test_batched_and_single_orbit_pieces_give_the_same_orbits(tmp_path):
             assert (x.classify(), x.t_final, x.steps) == (y.classify(), y.t_final, y.steps)
             assert x.t_blowup == y.t_blowup or (np.isnan(x.t_blowup) and np.isnan(y.t_blowup))
     assert a.classes(4e4)[64]["blow-up"] >= 1
+
+
+def _old_format_study(old, N_seeds, t_stop, **params):
+    """A chaos study in the format before the engine, written as that format was: study.json
+    and per orbit np.savez(steps, t, state, acc, s_t, s_mle, s_sali, s_gali, message, wall,
+    failed) from an fpl_chaos handle (integrator state + fpl_chaos_save)."""
+    import json
+    from fputlab import _lowlevel as ll
+    from fputlab.chaos.study import StudySpec
+    spec = StudySpec(**params).validate()
+    old.mkdir()
+    (old / "study.json").write_text(json.dumps(
+        {"format": "fputlab-chaos-study-1", **{k: getattr(spec, k) for k in
+                                                 spec.__dataclass_fields__}, "Ns": list(spec.Ns)}))
+    for (N, seed), t in zip(N_seeds, t_stop):
+        lat = Lattice(N, spec.alpha, spec.model, tau=spec.tau, seed=seed)
+        co = ll.chaos_options(spec.t_end, renorm_interval=spec.renorm_interval,
+                              n_samples=spec.n_samples, sali_threshold=spec.sali_threshold,
+                              stop_when_chaotic=spec.stop_when_chaotic)
+        c = ll.ChaosHandle(lat._h, spec.method, ll.integrator_options(spec.dt, spec.rtol,
+                                                                     spec.atol),
+                           0.0, lat.mode_state(), None, co)
+        arrays = [np.full(spec.n_samples, np.nan) for _ in range(4)]
+        msg = ""
+        if c.advance(t, *arrays) > 0:
+            from fputlab._errors import last_error
+            msg = last_error()
+        ih = c.integrator()
+        np.savez(old / f"orbit_N{N}_seed{seed}.npz", steps=np.int64(ih.steps()),
+                 t=np.float64(ih.time()), state=ih.get_state().ravel(), acc=c.save(),
+                 s_t=arrays[0], s_mle=arrays[1], s_sali=arrays[2], s_gali=arrays[3],
+                 message=np.array(msg), wall=np.float64(0.0), failed=np.bool_(False))
+    return spec
+
+
+def _old_counts(old, spec, t_eval):
+    """The old study's class counts at t_eval, read from its files as the old reader did:
+    accumulators m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali, t_final,
+    done, blew_up, t_blowup, completed, t_pending (fpl_chaos_save)."""
+    from fputlab.chaos import classify_orbit
+    out = {}
+    for N in spec.Ns:
+        counts = {"chaotic": 0, "regular": 0, "blow-up": 0, "undecided": 0, "not reached": 0}
+        for r in range(spec.realisations):
+            path = old / f"orbit_N{N}_seed{spec.first_seed + r}.npz"
+            if not path.exists():
+                counts["not reached"] += 1
+                continue
+            z = np.load(path)
+            acc, k = z["acc"], int(z["acc"][3])
+            cls = classify_orbit(z["s_t"][:k], z["s_mle"][:k], chaotic=bool(acc[4]),
+                                 t_chaotic=acc[5], blew_up=bool(acc[11]), t_blowup=acc[12],
+                                 t_final=acc[9], t_eval=t_eval)
+            t_reached = acc[12] if acc[11] else acc[9]
+            if cls not in ("chaotic", "blow-up") and t_reached < t_eval * (1 - 1e-12) and not (
+                    acc[13] and acc[9] >= spec.t_end):
+                counts["not reached"] += 1
+            else:
+                counts[cls] += 1
+        out[N] = counts
+    return out
+
+
+def test_a_study_of_the_old_format_migrates_with_the_same_counts_and_continues(tmp_path):
+    from fputlab.chaos.study import migrate_legacy
+    params = dict(Ns=(4, 64), realisations=3, tau=20.0, t_end=2e4, n_samples=60)
+    orbits = [(N, s) for N in (4, 64) for s in (1, 2, 3)]
+    # one orbit never started, the others stopped at different times (an interrupted piece)
+    old = tmp_path / "old"
+    spec = _old_format_study(old, orbits[:-1], [1e3, 2e4, 5e3, 2e4, 2e4], **params)
+    before = sorted(p.name for p in old.iterdir())
+    migrated = migrate_legacy(old, tmp_path / "new")
+    assert sorted(p.name for p in old.iterdir()) == before          # only read
+    study = ChaosStudy(tmp_path / "new")
+    assert study.spec == spec
+    for t in (10.0, 300.0, 1e3, 3e3, 5e3, 1e4, 2e4):
+        assert study.classes(t) == _old_counts(old, spec, t), t
+    assert study.classes(2e4)[64]["blow-up"] >= 1
+    assert migrated.to_xarray()["orbit_class"].shape == (2, 1, 3)
+    # continued to t_end, it is the study run from scratch, bit for bit
+    study.run(workers=2, progress=False)
+    fresh = ChaosStudy(tmp_path / "fresh", **params)
+    fresh.run(workers=2, progress=False)
+    for N in (4, 64):
+        for x, y in zip(study.results()[N], fresh.results()[N]):
+            np.testing.assert_array_equal(x.mle, y.mle)
+            np.testing.assert_array_equal(x.t, y.t)
+            assert (x.classify(), x.t_final, x.steps) == (y.classify(), y.t_final, y.steps)

@@ -70,7 +70,11 @@ SAMPLES_PER_DECADE = 40
 
 
 def _grid_options(settings: dict, t_end: float) -> tuple[float, int]:
-    """(C t_end, C n_samples) whose log-spaced grid holds t_end with samples_per_decade."""
+    """(C t_end, C n_samples) whose log-spaced grid holds t_end with samples_per_decade, or the
+    fixed grid (sample_grid_end, n_samples) of a study that set one (the studies of Figs. 12-14
+    made before the engine: their grid ends at their t_end)."""
+    if settings.get("sample_grid_end") is not None:
+        return settings["sample_grid_end"], settings["n_samples"]
     t_first = settings["t_first_sample"] or settings["renorm_interval"]
     K = max(1, math.floor(math.log10(t_end / t_first)) + 1)
     return t_first * 10.0 ** K, K * settings["samples_per_decade"] + 1
@@ -100,14 +104,16 @@ def _initial(settings: dict, lat: Lattice) -> np.ndarray:
     return lat.mode_state()
 
 
-def _report(settings, t_end, res, t, mle, sali, gali, message, state, cpu, failed=False) -> dict:
+def _report(settings, t_end, res, t, mle, sali, gali, message, state, cpu, ended: bool,
+            failed=False) -> dict:
     """One orbit's report: its values (class at the end, final indicators, the samples) and, if
     it can go on, its state in the single-orbit checkpoint format."""
     k = int(res.n_samples)
     t, mle, sali, gali = (np.array(a[:k]) for a in (t, mle, sali, gali))
     cls = ll.chaos_classify(bool(res.chaotic), float(res.t_chaotic), bool(res.blew_up),
                             float(res.t_blowup), float(res.t_final), t, mle, math.nan)
-    done = bool(res.chaotic and settings["stop_when_chaotic"]) or bool(res.blew_up) or failed
+    # decided (chaotic with early stop, blown up), at the end of a fixed grid, or failed
+    done = bool(ended) or failed
     values = {"orbit_class": cls, "mle": float(res.mle), "sali": float(res.sali),
               "chaotic": bool(res.chaotic), "t_chaotic": float(res.t_chaotic),
               "blew_up": bool(res.blew_up), "t_blowup": float(res.t_blowup),
@@ -153,7 +159,7 @@ def _run_single(settings, N, tau, seed, prev, t_end) -> dict:
     state = {"steps": np.int64(ih.steps()), "t": np.float64(ih.time()), "y": ih.get_state(),
              "acc": c.save()}
     return _report(settings, t_end, res, *arrays, message, state,
-                   time.process_time() - cpu0, failed)
+                   time.process_time() - cpu0, c.done(), failed)
 
 
 def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
@@ -184,7 +190,7 @@ def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
         res = b.get_result(r)
         state = {"steps": np.int64(steps), "t": np.float64(t), "y": y, "acc": acc}
         out.append(_report(settings, t_end, res, *(a[r] for a in arrays), b.message(r), state,
-                           cpu))
+                           cpu, bool(res.done)))
     return out
 
 
@@ -268,6 +274,15 @@ class ChaosKind(StudyKind):
             if s[name] < low:
                 raise ValueError(f"{name} must be >= {low} (got {s[name]})")
         s["stop_when_chaotic"] = bool(s["stop_when_chaotic"])
+        if s["sample_grid_end"] is not None:      # a fixed grid: t_end can not pass its end
+            s["sample_grid_end"] = _real(s["sample_grid_end"], "sample_grid_end")
+            s["n_samples"] = _int(s["n_samples"], "n_samples")
+            if not s["sample_grid_end"] > 0 or s["n_samples"] < 2:
+                raise ValueError("a fixed sample grid needs sample_grid_end > 0 and n_samples "
+                                 f">= 2 (got {s['sample_grid_end']}, {s['n_samples']})")
+        elif s["n_samples"] is not None:
+            raise ValueError("n_samples: only with sample_grid_end (a fixed grid); chaos "
+                             "studies sample at samples_per_decade")
         if s["y0"] is not None:
             y0 = np.asarray(s["y0"], dtype=float).ravel()
             bad = [N for N in grid["N"] if y0.size != 2 * N]
@@ -302,9 +317,11 @@ class ChaosKind(StudyKind):
     def extra_coords(self, settings, arrays):
         """The sample times every orbit shares (those of the orbit sampled furthest; an
         orbit stopped as chaotic has one last sample of its own, in t_sample)."""
-        ts = arrays["t_sample"].reshape(-1, arrays["t_sample"].shape[-1])
-        counts = np.sum(np.isfinite(ts), axis=1)
-        t = ts[int(np.argmax(counts))] if ts.shape[0] else ts[0:0]
+        ts = arrays["t_sample"]
+        if ts.size == 0:
+            return {"t": ("sample", np.empty(ts.shape[-1]))}
+        ts = ts.reshape(-1, ts.shape[-1])
+        t = ts[int(np.argmax(np.sum(np.isfinite(ts), axis=1)))]
         return {"t": ("sample", t)}
 
     def summary(self, ds):
@@ -337,6 +354,7 @@ _CHAOS_SETTINGS = {
     "t_first_sample": _C["t_first_sample"], "samples_per_decade": SAMPLES_PER_DECADE,
     "n_dev": _C["n_dev"], "sali_threshold": _C["sali_threshold"], "stop_when_chaotic": True,
     "deviation_seed": _C["seed"], "blowup_stretch": None, "y0": None,
+    "sample_grid_end": None, "n_samples": None,
 }
 
 CHAOS_KIND = ChaosKind()
@@ -369,14 +387,42 @@ class ChaoticFraction(StudyResult):
                 "classes": {N: {c: rows[N][c] for c in CLASSES} for N in Ns},
                 "results": {N: self.orbits(N) for N in Ns}}
 
-    def orbits(self, N: int, tau: float | None = None) -> list[ChaosResult]:
-        """The ChaosResult of every seed at one N (and tau: default the first), in seed order."""
+    def classes_at(self, t_eval: float, tau: float | None = None) -> dict[int, dict[str, int]]:
+        """{N: {class: count}} at time t_eval (and tau: default the first); orbits that have
+        not reached t_eval (and were not decided before it) count as 'not reached'."""
+        ds = self.dataset
+        tau = float(ds["tau"].values[0]) if tau is None else tau
+        grid_end = json.loads(ds.attrs["settings"]).get("sample_grid_end") or math.inf
+        out = {}
+        for N in ds["N"].values:
+            counts = dict.fromkeys((*CLASSES, "not reached"), 0)
+            finished = ds["finished"].sel(N=N, tau=tau).values
+            for r, fin in zip(self.orbits(int(N), tau), finished):
+                if r is None:
+                    counts["not reached"] += 1
+                    continue
+                cls = r.classify(t_eval=t_eval)
+                t_at = r.t_blowup if r.blew_up else r.t_final
+                if cls not in ("chaotic", "blow-up") and t_at < t_eval * (1 - 1e-12) and not (
+                        fin and r.t_final >= grid_end):
+                    counts["not reached"] += 1
+                else:
+                    counts[cls] += 1
+            out[int(N)] = counts
+        return out
+
+    def orbits(self, N: int, tau: float | None = None) -> list:
+        """The ChaosResult of every seed at one N (and tau: default the first), in seed order
+        (None for an orbit not started)."""
         ds = self.dataset
         sel = ds.sel(N=N, tau=float(ds["tau"].values[0]) if tau is None else tau)
         settings = json.loads(ds.attrs["settings"])
         out = []
         for seed in ds["seed"].values:
             o = sel.sel(seed=seed)
+            if not np.isfinite(float(o["t_reached"])):      # not started
+                out.append(None)
+                continue
             t = o["t_sample"].values
             k = int(np.sum(np.isfinite(t)))
             out.append(ChaosResult(

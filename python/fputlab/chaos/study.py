@@ -1,14 +1,14 @@
-"""The paper's chaos study (Sec. 5, Figs. 12-14) at full length, resumable in bounded pieces.
+"""The paper's chaos study (Sec. 5, Figs. 12-14) at full length: a chaos study of the study
+engine (`fputlab.engine`, kind "chaos") with the paper's set-up and a fixed sample grid.
 
 For each N and disorder realisation (seed) one orbit of model 3 at tau = 10 % (the paper's
 mode-1 initial state, two deviation vectors) is followed with the chaos indicators lambda(t)
-and SALI(t) up to t_end = 1e8. Every orbit has its own state file in the work directory (the
-integrator's step count, time and state with the deviation vectors, the chaos accumulators and
-the log-spaced samples so far), written atomically every few minutes and whenever a piece
-ends, so a kill loses minutes, not hours, and the continuation is bit for bit the
-uninterrupted run. The study advances in horizons (1e4, 1e5, ... up to t_until): every orbit
-reaches a horizon before any goes further, so after a bounded piece of work the classes are
-known for every orbit at the same time and the table of the paper can be drawn honestly:
+and SALI(t) up to t_end = 1e8, sampled at n_samples log-spaced times up to t_end. The work
+directory is the engine's (`fputlab.io.store`): one task file per orbit (its samples and its
+state in the single-orbit checkpoint format), replaced atomically as the orbit reports, so a
+rerun continues bit for bit. The study advances in horizons (1e4, 1e5, ... up to t_until):
+every orbit reaches a horizon before any goes further, so after a bounded piece of work the
+classes are known for every orbit at the same time:
 
     >>> from fputlab.chaos.study import ChaosStudy
     >>> study = ChaosStudy("fig14.d")                     # the paper's set-up, fast defaults
@@ -23,32 +23,28 @@ non-finite state); regular orbits run to t_end.
 Method: the default is srkn14a6 at dt = 0.5, validated against Yoshida 4 at dt = 0.01 (the
 paper's tangent-map choice) and DOP853 on the variational equations (the paper's choice for
 model 3) in tests/python/test_study.py and benchmarks/chaos_methods.py; method="dop853" gives
-the paper's own integrator (about 30x slower). The work directory must be reachable by the
-workers (local pool: always; Dask: a shared file system).
+the paper's own integrator (about 30x slower).
+
+A study directory of the format before the engine (one orbit_N*_seed*.npz per orbit) is
+converted by `migrate_legacy(old, new)`, which only reads the old one.
 """
 from __future__ import annotations
 
 import json
 import math
-import os
-import time
-from dataclasses import asdict, dataclass, field
+import shutil
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .. import _lowlevel as ll
-from .._engine import run_calls
-from .._errors import FputlabError, last_error
-from .result import ChaosResult
-from .batch import BATCH_METHODS
+from ..engine import HORIZONS, run_study  # noqa: F401 (HORIZONS: public here)
 from ..integrate import method_info
-from ..lattice import MODELS, Lattice
+from ..lattice import MODELS
+from .ensemble import CHAOS_KIND, ChaoticFraction, _lattice, _report
 
 _FORMAT = "fputlab-chaos-study-1"
-#: the horizons every orbit reaches before any goes further
-HORIZONS = (1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10)
-
 
 @dataclass(frozen=True)
 class StudySpec:
@@ -116,246 +112,54 @@ class StudySpec:
         return cls(**d).validate()
 
 
-@dataclass
-class OrbitState:
-    """One orbit's progress (what its state file holds)."""
-    N: int
-    seed: int
-    t: float = 0.0                 # time reached
-    done: bool = False             # class decided or t_end reached
-    result: ChaosResult | None = None
-    wall: float = 0.0              # CPU seconds spent on it so far
-    extra: dict = field(default_factory=dict)
+def _engine_study(spec: StudySpec) -> tuple[dict, dict]:
+    """(grid, settings) of the engine's chaos study that is this study."""
+    grid = {"N": list(spec.Ns), "tau": [spec.tau],
+            "seed": [spec.first_seed + r for r in range(spec.realisations)]}
+    settings = {"model": spec.model, "alpha": spec.alpha, "method": spec.method, "dt": spec.dt,
+                "rtol": spec.rtol, "atol": spec.atol, "renorm_interval": spec.renorm_interval,
+                "sali_threshold": spec.sali_threshold,
+                "stop_when_chaotic": spec.stop_when_chaotic,
+                "sample_grid_end": spec.t_end, "n_samples": spec.n_samples}
+    return grid, settings
 
 
-def _orbit_path(work: Path, N: int, seed: int) -> Path:
-    return work / f"orbit_N{N}_seed{seed}.npz"
-
-
-def _handle(spec: StudySpec, N: int, seed: int):
-    """(lattice, chaos handle, integrator handle) at t = 0 for one orbit of the study."""
-    lat = Lattice(N, spec.alpha, spec.model, tau=spec.tau, seed=seed if spec.tau else None)
-    io = ll.integrator_options(0.0 if method_info(spec.method)["adaptive"] else spec.dt,
-                               spec.rtol, spec.atol)
-    co = ll.chaos_options(spec.t_end, renorm_interval=spec.renorm_interval,
-                          n_samples=spec.n_samples, sali_threshold=spec.sali_threshold,
-                          stop_when_chaotic=spec.stop_when_chaotic)
-    c = ll.ChaosHandle(lat._h, spec.method, io, 0.0, lat.mode_state(), None, co)
-    return lat, c, c.integrator()
-
-
-def _save(path: Path, spec_json: str, c, ih, arrays, message: str, wall: float,
-          failed: bool) -> None:
-    """The orbit's state file, written under a temporary name and renamed (never half-written)."""
-    acc = c.save()
-    state = ih.get_state().reshape(arrays["state_len"])
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with open(tmp, "wb") as f:
-        np.savez(f, spec=np.array(spec_json), steps=np.int64(ih.steps()),
-                 t=np.float64(ih.time()), state=state, acc=acc,
-                 s_t=arrays["t"], s_mle=arrays["mle"], s_sali=arrays["sali"],
-                 s_gali=arrays["gali"], message=np.array(message), wall=np.float64(wall),
-                 failed=np.bool_(failed))
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
-
-
-def _load(path: Path, spec_json: str) -> dict | None:
-    """The orbit's state file as a dict, None if there is none; ValueError if it belongs to
-    another study or cannot be read (a corrupt file is never silently replaced)."""
-    if not path.exists():
+def _spec_of(work: Path) -> StudySpec | None:
+    """The StudySpec of the engine study in `work` (None if there is none)."""
+    desc = work / "study.json"
+    if not desc.exists():
         return None
     try:
-        with np.load(path, allow_pickle=False) as z:
-            d = {k: z[k] for k in z.files}
-    except Exception as err:     # zipfile/OSError/ValueError: a damaged file
-        raise ValueError(f"{path}: unreadable orbit state ({type(err).__name__}: {err}); "
-                         f"remove it to recompute that orbit") from None
-    if str(d.get("spec")) != spec_json:
-        raise ValueError(f"{path}: belongs to another study (other parameters)")
-    return d
-
-
-def advance_orbit(spec_json: str, N: int, seed: int, t_until: float, work_dir: str,
-                  save_every: float = 120.0) -> dict:
-    """Advance one orbit of the study to t_until (or until its class is decided), resuming
-    from its state file and saving it every `save_every` seconds and at the end. Runs in a
-    worker process; returns a small summary {N, seed, t, done, class, wall}."""
-    spec = StudySpec.from_json(spec_json)
-    path = _orbit_path(Path(work_dir), N, seed)
-    lat, c, ih = _handle(spec, N, seed)
-    S = spec.n_samples
-    arrays = {"t": np.full(S, np.nan), "mle": np.full(S, np.nan), "sali": np.full(S, np.nan),
-              "gali": np.full(S, np.nan), "state_len": 2 * N * 3}
-    saved = _load(path, spec_json)
-    message, wall = "", 0.0
-    if saved is not None:
-        ih.restore(int(saved["steps"]), float(saved["t"]),
-                   np.ascontiguousarray(saved["state"], float))
-        c.restore(np.ascontiguousarray(saved["acc"], float))
-        for k in ("t", "mle", "sali", "gali"):
-            arrays[k][:] = saved["s_" + k]
-        message, wall = str(saved["message"]), float(saved["wall"])
-    # pieces of ~1e5 force evaluations per particle between clock checks
-    seg = spec.renorm_interval * max(1, round(2e4 / spec.renorm_interval))
-    started = last_save = time.monotonic()
-    cpu0 = time.process_time()
-    t_now = ih.time()
-    failed = bool(saved is not None and saved.get("failed", False))
-    while not failed and not c.done() and t_now < t_until:
-        try:
-            if c.advance(min(t_now + seg, t_until),
-                         *(arrays[k] for k in ("t", "mle", "sali", "gali"))) > 0:
-                message = last_error()          # a blow-up: when and why
-        except (FputlabError, ValueError, MemoryError, OSError):
-            message, failed = last_error(), True    # a numerical failure: stop this orbit here
-        t_now = ih.time()
-        if time.monotonic() - last_save > save_every:
-            _save(path, spec_json, c, ih, arrays, message, wall + time.process_time() - cpu0,
-                  failed)
-            last_save = time.monotonic()
-    wall += time.process_time() - cpu0
-    _save(path, spec_json, c, ih, arrays, message, wall, failed)
-    res = c.get_result()
-    done = c.done() or failed
-    del lat
-    return {"N": N, "seed": seed, "t": float(res.t_final if not res.blew_up else res.t_blowup),
-            "done": done, "wall": wall, "elapsed": time.monotonic() - started}
-
-
-# ---- batched pieces: the orbits of one N in the vector lanes (fputlab.chaos.batch) -----------
-# fpl_chaos_save accumulators: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
-# t_final, done, blew_up, t_blowup, completed, t_pending; a batch lane (fpl_chaos_batch_save):
-# logsum, next, pending, n_samples, t_final, mle, sali, gali, chaotic, t_chaotic, blew_up,
-# t_blowup, blowup_reason, event_index, steps, done, running. A lane computes exactly what
-# fpl_chaos computes for its orbit, so an orbit file moves in and out of a lane losslessly.
-_LANE_ACC, _BATCH_HEADER = 17, 8
-
-
-def _lane_from_orbit(acc, steps):
-    chaotic, t_pending = bool(acc[4]), float(acc[14])
-    pending = not chaotic and t_pending == t_pending
-    t_chaotic = float(acc[5]) if chaotic else (t_pending if pending else math.nan)
-    return [acc[1], acc[2], float(pending), acc[3], acc[9], acc[6], acc[7], acc[8],
-            float(chaotic), t_chaotic, 0.0, math.nan, 0.0, -1.0, float(steps), 0.0, 1.0]
-
-
-def _orbit_from_lane(lane, renorm_interval):
-    chaotic, pending, blew_up, done = (bool(lane[i]) for i in (8, 2, 10, 15))
-    t_final = float(lane[4])
-    t_pending = float(lane[9]) if (pending or chaotic) else math.nan
-    return np.array([round(t_final / renorm_interval), lane[0], lane[1], lane[3],
-                     float(chaotic), lane[9] if chaotic else math.nan, lane[5], lane[6], lane[7],
-                     t_final, float(done), float(blew_up), lane[11],
-                     float(done and not blew_up), t_pending])
-
-
-def advance_group(spec_json: str, N: int, seeds, t_until: float, work_dir: str,
-                  save_every: float = 120.0) -> list[dict]:
-    """Advance several orbits of one N (all at the same step, e.g. a horizon) together in the
-    batched kernel to t_until, reading and writing the same per-orbit state files as
-    `advance_orbit` (the numbers are those of one orbit at a time, bit for bit)."""
-    spec = StudySpec.from_json(spec_json)
-    work = Path(work_dir)
-    seeds = list(seeds)
-    saved = [_load(_orbit_path(work, N, s), spec_json) for s in seeds]
-    key = {(int(d["steps"]) if d is not None else 0) for d in saved}
-    # one orbit alone gains nothing from the lanes (benchmarks/README.md, "Batched chaos": the
-    # kernel with one lane costs 0.9-1.2x the single-orbit path), so it takes that path
-    if len(seeds) == 1 or len(key) != 1 or any(
-            d is not None and (bool(d["acc"][10]) or bool(d.get("failed", False))) for d in saved):
-        return [advance_orbit(spec_json, N, s, t_until, work_dir, save_every) for s in seeds]
-    R, S, k = len(seeds), spec.n_samples, 2
-    lats = [Lattice(N, spec.alpha, spec.model, tau=spec.tau, seed=s if spec.tau else None)
-            for s in seeds]
-    io = ll.integrator_options(spec.dt)
-    bo = ll.chaos_batch_options(spec.t_end, renorm_interval=spec.renorm_interval, n_samples=S,
-                                sali_threshold=spec.sali_threshold,
-                                stop_when_chaotic=spec.stop_when_chaotic)
-    y0 = np.ascontiguousarray(np.stack([lat.mode_state() for lat in lats]))
-    b = ll.ChaosBatchHandle([lat._h for lat in lats], spec.method, io, 0.0, y0, None, bo)
-    arrays = [np.full((R, S), np.nan) for _ in range(4)]
-    lane_len = 2 * N * (k + 1)
-    walls = [0.0] * R
-    if saved[0] is not None:          # into the lanes: the orbits' own accumulators and states
-        buf = b.save()                                    # the header of this batch
-        steps = int(saved[0]["steps"])
-        buf[4], buf[5], buf[6] = steps, saved[0]["acc"][0], R
-        for r, d in enumerate(saved):
-            p = _BATCH_HEADER + r * (_LANE_ACC + lane_len)
-            buf[p:p + _LANE_ACC] = _lane_from_orbit(d["acc"], steps)
-            buf[p + _LANE_ACC:p + _LANE_ACC + lane_len] = d["state"]
-            for a, name in zip(arrays, ("t", "mle", "sali", "gali")):
-                a[r] = d["s_" + name]
-            walls[r] = float(d["wall"])
-        b.restore(buf)
-
-    def save(cpu):
-        buf = b.save()
-        t_batch = b.time()
-        for r, s in enumerate(seeds):
-            p = _BATCH_HEADER + r * (_LANE_ACC + lane_len)
-            lane = buf[p:p + _LANE_ACC]
-            acc = _orbit_from_lane(lane, spec.renorm_interval)
-            if not lane[15]:                  # running: the lanes' common step and time
-                acc[0] = buf[5]
-            t_file = t_batch if not lane[15] else float(lane[4])
-            tmp_state = buf[p + _LANE_ACC:p + _LANE_ACC + lane_len]
-            path = _orbit_path(work, N, s)
-            tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-            msg = b.message(r)
-            with open(tmp, "wb") as f:
-                np.savez(f, spec=np.array(spec_json), steps=np.int64(lane[14]),
-                         t=np.float64(t_file), state=tmp_state, acc=acc,
-                         s_t=arrays[0][r], s_mle=arrays[1][r], s_sali=arrays[2][r],
-                         s_gali=arrays[3][r], message=np.array(msg),
-                         wall=np.float64(walls[r] + cpu / R), failed=np.bool_(False))
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, path)
-
-    seg = spec.renorm_interval * max(1, round(2e4 / spec.renorm_interval))
-    cpu0 = time.process_time()
-    last_save = time.monotonic()
-    t_now = b.time()
-    while not b.done() and t_now < t_until:
-        b.advance(min(t_now + seg, t_until), *arrays)
-        t_now = b.time()
-        if time.monotonic() - last_save > save_every:
-            save(time.process_time() - cpu0)
-            last_save = time.monotonic()
-    save(time.process_time() - cpu0)
-    res = None
-    summary = []
-    for r, s in enumerate(seeds):
-        res = b.get_result(r, res)
-        summary.append({"N": N, "seed": s, "t": float(res.t_blowup if res.blew_up else
-                                                      (t_now if not res.done else res.t_final)),
-                        "done": bool(res.done)})
-    del lats
-    return summary
-
-
-def _run_pieces(fn, calls, workers, scheduler):
-    """Yield (call, result, error) for fn(*call) over a local process pool or a Dask cluster
-    (fputlab.ensemble's engines)."""
-    yield from run_calls(fn, calls, workers=workers, scheduler=scheduler)
+        d = json.loads(desc.read_text())
+        g, s = d["grid"], d["settings"]
+        seeds = g["seed"]
+        return StudySpec(Ns=tuple(g["N"]), realisations=len(seeds), tau=g["tau"][0],
+                         model=s["model"], alpha=s["alpha"], first_seed=seeds[0],
+                         t_end=s["sample_grid_end"], method=s["method"], dt=s["dt"],
+                         rtol=s["rtol"], atol=s["atol"], renorm_interval=s["renorm_interval"],
+                         n_samples=s["n_samples"], sali_threshold=s["sali_threshold"],
+                         stop_when_chaotic=s["stop_when_chaotic"]).validate()
+    except (OSError, ValueError, KeyError, TypeError, IndexError) as err:
+        if json.loads(desc.read_text()).get("format") == _FORMAT:
+            raise ValueError(f"{work} holds a chaos study of the format before the study engine: "
+                             "convert it with fputlab.chaos.study.migrate_legacy(old, new)") \
+                from None
+        raise ValueError(f"{desc}: not a readable chaos study ({err})") from None
 
 
 class ChaosStudy:
-    """A resumable chaos study in `work_dir` (see the module docstring).
+    """A resumable chaos study in `work_dir` (see the module docstring): the paper's set-up as
+    a study of the engine.
 
     Parameters
     ----------
     work_dir : path
-        Directory of the study: study.json (the parameters) and one state file per orbit.
-        An existing directory is continued; its parameters must match the ones given (only
-        the ones given are compared; the rest are taken from it).
+        Directory of the study (the engine's layout). An existing directory is continued; its
+        parameters must match the ones given (only the ones given are compared; the rest are
+        taken from it).
     batched : bool, optional
-        Advance the orbits of one N together in the vector lanes of the batched kernel
-        (fputlab.chaos.batch; default) when the method allows it. The numbers are the same
-        either way, and a study can switch between the two at any piece.
+        Kept for compatibility: the engine runs the orbits of one N in the vector lanes when
+        the method allows it; the numbers are the same either way.
     **params
         StudySpec fields: Ns, realisations, tau, model, alpha, first_seed, t_end, method, dt,
         rtol, atol, renorm_interval, n_samples, sali_threshold, stop_when_chaotic.
@@ -368,12 +172,10 @@ class ChaosStudy:
         if unknown:
             raise TypeError(f"unknown study parameter(s): {', '.join(sorted(unknown))} "
                             f"(known: {', '.join(StudySpec.__dataclass_fields__)})")
-        desc = self.work / "study.json"
-        if desc.exists():
-            try:
-                old = StudySpec.from_json(desc.read_text())
-            except (ValueError, KeyError, TypeError, json.JSONDecodeError) as err:
-                raise ValueError(f"{desc}: not a readable study description ({err})") from None
+        if self.work.exists() and not self.work.is_dir():
+            raise ValueError(f"work_dir {self.work} exists and is not a directory")
+        old = _spec_of(self.work)
+        if old is not None:
             given = StudySpec(**{**asdict(old), **params}).validate()
             if given != old:
                 diff = [k for k in params if getattr(given, k) != getattr(old, k)]
@@ -382,133 +184,69 @@ class ChaosStudy:
                                  f"use another work directory")
             self.spec = old
         else:
-            if self.work.exists() and not self.work.is_dir():
-                raise ValueError(f"work_dir {self.work} exists and is not a directory")
             self.spec = StudySpec(**params).validate()
-            self.work.mkdir(parents=True, exist_ok=True)
-            tmp = desc.with_name(".study.json.tmp")
-            tmp.write_text(self.spec.to_json())
-            os.replace(tmp, desc)
-        self._json = self.spec.to_json()
+            _create(self.work, self.spec)
 
-    # -- running ---------------------------------------------------------------------------
     def orbits(self) -> list[tuple[int, int]]:
         s = self.spec
         return [(N, s.first_seed + r) for N in s.Ns for r in range(s.realisations)]
 
+    def _study(self, t_until: float, **run) -> ChaoticFraction:
+        grid, settings = _engine_study(self.spec)
+        reached = _reached_t_end(self.work)
+        t = max(t_until, reached or 0.0)
+        r = run_study("chaos", grid, settings, t, work_dir=self.work, **run)
+        return ChaoticFraction(r.kind, r.dataset, r.work_dir, r.computed, r.resumed, r.reused)
+
     def run(self, t_until: float | None = None, *, workers: int | None = None, scheduler=None,
-            progress: bool = True, save_every: float = 120.0) -> dict:
+            progress: bool = True, save_every: float | None = None) -> dict:
         """Advance every orbit to t_until (default t_end), horizon by horizon, on a local
         process pool (`workers`, default all cores) or a Dask cluster (`scheduler`). Safe to
-        interrupt at any moment: rerun to continue. Returns `status()`."""
+        interrupt at any moment: rerun to continue. Returns `status()`. (`save_every` is kept
+        for compatibility: every horizon piece is saved as it reports.)"""
         t_until = self.spec.t_end if t_until is None else float(t_until)
         if not (math.isfinite(t_until) and t_until > 0):
             raise ValueError(f"t_until must be finite and > 0 (got {t_until})")
         t_until = min(t_until, self.spec.t_end)
-        horizons = [h for h in HORIZONS if h < t_until] + [t_until]
-        from tqdm.auto import tqdm
-        state = {o.N * 10**9 + o.seed: o for o in self._states()}
-        total = sum(t_until if not o.done else o.t for o in state.values())
-        bar = tqdm(total=total, desc="chaos study", unit="t", disable=None if progress else True,
-                   bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} [{elapsed}<{remaining}]")
-        bar.update(sum(min(o.t, t_until) for o in state.values()))
-        try:
-            for h in horizons:
-                todo = [(o.N, o.seed, o.t) for o in state.values() if not o.done and o.t < h]
-                todo.sort(key=lambda ns: -ns[0])     # the costly large-N orbits first
-                fn, calls = self._calls(todo, h, workers, save_every)
-                for call, outs, err in _run_pieces(fn, calls, workers, scheduler):
-                    if err is not None:
-                        raise err
-                    for out in (outs if isinstance(outs, list) else [outs]):
-                        o = state[out["N"] * 10**9 + out["seed"]]
-                        before = o.t
-                        o.t, o.done = out["t"], out["done"]
-                        bar.update(min(o.t, t_until) - min(before, t_until))
-                        if o.done:        # decided early: its remaining time is not work
-                            bar.total -= t_until - min(o.t, t_until)
-                            bar.refresh()
-        finally:
-            bar.close()
+        reached = _reached_t_end(self.work)
+        if reached is not None and reached > t_until:
+            # orbits beyond t_until stay where they are; only the ones behind move
+            t_until = reached
+        self._study(t_until, workers=workers, scheduler=scheduler, progress=progress)
         return self.status()
 
-    def _calls(self, todo, h, workers, save_every):
-        """(function, calls) advancing the orbits `todo` to h: with a batchable method the
-        orbits of one N go together in the vector lanes, in groups of >= 4 (one per core),
-        else one orbit per call."""
-        if not self.batched or self.spec.method not in BATCH_METHODS:
-            return advance_orbit, [(self._json, N, seed, h, str(self.work), save_every)
-                                   for N, seed, _ in todo]
-        cores = workers or os.cpu_count() or 1
-        calls = []
-        # lanes must start at one step: orbits of one N at the same time (an interrupted piece
-        # leaves a few in between; they form their own groups)
-        for N, t in sorted({(N, t) for N, _, t in todo}, key=lambda nt: (-nt[0], nt[1])):
-            seeds = [s for n, s, tt in todo if (n, tt) == (N, t)]
-            per = max(4, -(-len(seeds) // cores))
-            calls += [(self._json, N, seeds[i:i + per], h, str(self.work), save_every)
-                      for i in range(0, len(seeds), per)]
-        return advance_group, calls
+    def _loaded(self) -> ChaoticFraction:
+        """The study as its files hold it now (merged, nothing computed)."""
+        if _spec_of(self.work) is None:
+            return ChaoticFraction("chaos", _empty(self.spec), None)
+        from ..engine import load_study
+        from ..io.store import StudyStore
+        key = StudyStore.reader(self.work).fingerprint()
+        if getattr(self, "_cache", (None,))[0] != key:      # files changed: merge again
+            r = load_study(self.work)
+            self._cache = (key, ChaoticFraction(r.kind, r.dataset, r.work_dir))
+        return self._cache[1]
 
     # -- reading ---------------------------------------------------------------------------
-    def _states(self) -> list[OrbitState]:
-        out = []
-        for N, seed in self.orbits():
-            d = _load(_orbit_path(self.work, N, seed), self._json)
-            if d is None:
-                out.append(OrbitState(N, seed))
-                continue
-            acc = d["acc"]
-            # accumulators: m, logsum, next, n_samples, chaotic, t_chaotic, mle, sali, gali,
-            # t_final, done, blew_up, t_blowup, completed, t_pending (fpl_chaos_save)
-            k = int(acc[3])
-            t, mle, sali, gali = (np.asarray(d["s_" + n], float)[:k]
-                                  for n in ("t", "mle", "sali", "gali"))
-            blew_up = bool(acc[11])
-            res = ChaosResult(t=t, mle=mle, sali=sali, gali=gali, chaotic=bool(acc[4]),
-                              t_chaotic=float(acc[5]), t_final=float(acc[9]),
-                              steps=int(d["steps"]), method=self.spec.method,
-                              completed=bool(acc[13]), message=str(d["message"]),
-                              params={"N": N, "model": self.spec.model, "tau": self.spec.tau,
-                                      "seed": seed, "t_end": self.spec.t_end, "dt": self.spec.dt},
-                              blew_up=blew_up, t_blowup=float(acc[12]))
-            t_reached = float(acc[12]) if blew_up else float(d["t"])
-            done = bool(acc[10]) or bool(d.get("failed", False))
-            out.append(OrbitState(N, seed, t_reached, done, res, float(d["wall"])))
-        return out
-
-    def results(self) -> dict[int, list[ChaosResult]]:
+    def results(self) -> dict[int, list]:
         """{N: [ChaosResult per realisation]} as far as computed (None where not started)."""
-        out: dict[int, list] = {N: [] for N in self.spec.Ns}
-        for o in self._states():
-            out[o.N].append(o.result)
-        return out
+        r = self._loaded()
+        return {N: r.orbits(N) for N in self.spec.Ns}
 
     def reached(self) -> float:
         """The time every orbit has reached or been decided by: the study's honest horizon
         (t_end once every orbit is done)."""
-        return min([o.t for o in self._states() if not o.done], default=self.spec.t_end)
+        ds = self._loaded().dataset
+        t = ds["t_reached"].values
+        fin = ds["finished"].values
+        open_ = np.where(fin, np.inf, np.nan_to_num(t, nan=0.0))
+        m = float(open_.min()) if open_.size else math.inf
+        return self.spec.t_end if not math.isfinite(m) else min(m, self.spec.t_end)
 
     def classes(self, t_eval: float) -> dict[int, dict[str, int]]:
         """{N: {class: count}} at time t_eval; orbits that have not reached t_eval (and were not
         decided before it) are counted as 'not reached'."""
-        out = {}
-        for N, res in self.results().items():
-            counts = {"chaotic": 0, "regular": 0, "blow-up": 0, "undecided": 0, "not reached": 0}
-            for r in res:
-                if r is None:
-                    counts["not reached"] += 1
-                    continue
-                cls = r.classify(t_eval=t_eval)
-                decided_before = cls in ("chaotic", "blow-up")
-                t_reached = r.t_blowup if r.blew_up else r.t_final
-                if not decided_before and t_reached < t_eval * (1 - 1e-12) and not (
-                        r.completed and r.t_final >= self.spec.t_end):
-                    counts["not reached"] += 1
-                else:
-                    counts[cls] += 1
-            out[N] = counts
-        return out
+        return self._loaded().classes_at(t_eval)
 
     def table(self, t_evals=(1e6, 1e7, 1e8)) -> list[dict]:
         """Rows {t, N, chaotic, regular, blow-up, undecided, not reached} for each t in t_evals
@@ -522,8 +260,122 @@ class ChaosStudy:
         return rows
 
     def status(self) -> dict:
-        st = self._states()
-        return {"work_dir": str(self.work), "orbits": len(st),
-                "done": sum(o.done for o in st), "reached": self.reached(),
-                "cpu_seconds": sum(o.wall for o in st),
-                "t_min": min(o.t for o in st), "t_max": max(o.t for o in st)}
+        ds = self._loaded().dataset
+        t = np.nan_to_num(ds["t_reached"].values, nan=0.0)
+        fin = ds["finished"].values
+        t_orbit = np.where(fin & ds["blew_up"].values, ds["t_blowup"].values,
+                           np.where(fin, ds["t_final"].values, t))
+        return {"work_dir": str(self.work), "orbits": int(t.size), "done": int(fin.sum()),
+                "reached": self.reached(), "t_min": float(t_orbit.min()),
+                "t_max": float(t_orbit.max())}
+
+
+def _engine_spec(spec: StudySpec):
+    from ..engine import StudySpec as EngineSpec
+    g, s = CHAOS_KIND.normalise(*_engine_study(spec))
+    return EngineSpec("chaos", g, s, spec.t_end)
+
+
+def _create(work: Path, spec: StudySpec) -> None:
+    """The study's directory and description (atomic; a racing creator of another study is
+    refused by the store)."""
+    from ..io.store import StudyStore
+    es = _engine_spec(spec)
+    StudyStore(work, {**es.doc(), "key": es.key()}).close()
+
+
+def _reached_t_end(work: Path) -> float | None:
+    try:
+        return float(json.loads((work / "progress.json").read_text())["t_end"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _empty(spec: StudySpec):
+    """The labelled result of a study not started (nothing computed)."""
+    from ..engine import _merge
+    es = _engine_spec(spec)
+    return _merge(CHAOS_KIND, es, es.tasks(), None, {})
+
+
+# ---- the format before the engine ---------------------------------------------------------------
+
+def migrate_legacy(old_dir, new_dir) -> ChaoticFraction:
+    """Convert a chaos study of the format before the study engine (study.json
+    "fputlab-chaos-study-1" and one orbit_N<N>_seed<seed>.npz per orbit: step count, time,
+    state, fpl_chaos_save accumulators, samples) into an engine study in `new_dir`, which must
+    not exist. `old_dir` is only read. Every orbit keeps its state, so the new study continues
+    bit for bit; its classes at every time are those of the old one.
+
+    Returns
+    -------
+    ChaoticFraction
+        The migrated study's result (as `ChaosStudy(new_dir)` reads it).
+    """
+    old, new = Path(old_dir), Path(new_dir)
+    if new.exists():
+        raise ValueError(f"new_dir {str(new)!r} exists: migrate into a new directory")
+    d = json.loads((old / "study.json").read_text())
+    if d.pop("format", None) != _FORMAT:
+        raise ValueError(f"{old}/study.json is not a chaos study of the old format")
+    d["Ns"] = tuple(d["Ns"])
+    spec = StudySpec(**d).validate()
+    from ..engine import task_id
+    from ..io.store import StudyStore
+    es = _engine_spec(spec)
+    s = es.settings
+    reached = 0.0
+    try:
+        with StudyStore(new, {**es.doc(), "key": es.key()}) as store:
+            for c in es.tasks():
+                path = old / f"orbit_N{c['N']}_seed{c['seed']}.npz"
+                if not path.exists():
+                    continue
+                rep = _legacy_report(path, s, c)
+                store.write_task(task_id(c), c, rep)
+                reached = max(reached, rep["t"])
+            store.set_t_end(reached)
+    except BaseException:            # never leave half a study: new_dir did not exist before
+        shutil.rmtree(new, ignore_errors=True)
+        raise
+    result = ChaosStudy(new)._loaded()
+    StudyStore.reader(new).write_result(result.dataset)
+    return result
+
+
+def _legacy_report(path: Path, settings: dict, c: dict) -> dict:
+    """An old orbit file as an engine report: C restores the orbit (integrator and
+    accumulators) and reports its result, so nothing here reads the accumulators."""
+    with np.load(path, allow_pickle=False) as z:
+        f = {k: z[k] for k in z.files}
+    lat = _lattice(settings, c["N"], c["tau"], c["seed"])
+    io = ll.integrator_options(0.0 if method_info(settings["method"])["adaptive"]
+                               else settings["dt"], settings["rtol"], settings["atol"])
+    co = {"renorm_interval": settings["renorm_interval"], "n_samples": settings["n_samples"],
+          "sali_threshold": settings["sali_threshold"],
+          "stop_when_chaotic": settings["stop_when_chaotic"]}
+    h = ll.ChaosHandle(lat._h, settings["method"], io, 0.0, lat.mode_state(), None,
+                       ll.chaos_options(settings["sample_grid_end"], **co))
+    ih = h.integrator()
+    acc = np.ascontiguousarray(f["acc"], float)
+    ih.restore(int(f["steps"]), float(f["t"]), np.ascontiguousarray(f["state"], float))
+    try:
+        h.restore(acc)
+    except ValueError:
+        # an orbit that blew up keeps the state of the interval it blew up in, one
+        # renormalisation after its accumulators (m, the first of fpl_chaos_save's): it never
+        # continues, and C reports its result from the accumulators at their own time
+        t_acc = acc[0] * settings["renorm_interval"]
+        steps = int(f["steps"]) if not settings["dt"] else round(t_acc / settings["dt"])
+        ih.restore(steps, t_acc, np.ascontiguousarray(f["state"], float))
+        h.restore(acc)
+    res = h.get_result()
+    arrays = [np.asarray(f["s_" + k], float) for k in ("t", "mle", "sali", "gali")]
+    state = {"steps": np.int64(f["steps"]), "t": np.float64(f["t"]), "y": ih.get_state(),
+             "acc": h.save()}
+    failed = bool(f.get("failed", False))
+    t = float(f["t"])
+    rep = _report(settings, t, res, *arrays, str(f["message"]), state, float(f["wall"]),
+                  h.done(), failed)
+    rep["values"]["steps"] = int(f["steps"])        # the orbit's own count (see above)
+    return rep

@@ -2,7 +2,6 @@
 summary printed (text or JSON) and the HDF5 files of a summary."""
 from __future__ import annotations
 
-import json
 import os
 
 import numpy as np
@@ -149,19 +148,6 @@ def _new_file(a, name: str, extra: str = ""):
                               f"replace it{extra})")
 
 
-def _write_h5(path, attrs: dict, datasets: dict):
-    import h5py
-    from .. import __version__
-    with h5py.File(path, "w") as f:
-        f.attrs["fputlab_version"] = __version__
-        for k, v in attrs.items():
-            if v is not None:
-                f.attrs[k] = v
-        for k, v in datasets.items():
-            if v is not None:
-                f.create_dataset(k, data=np.asarray(v), compression="gzip")
-
-
 def _integrator_kwargs(a) -> dict:
     return {k: v for k, v in (("dt", a.dt), ("rtol", a.rtol), ("atol", a.atol)) if v is not None}
 
@@ -188,25 +174,3 @@ def _run_summary(s) -> dict:
         out["event"] = s.event
     out.update(s.extra)
     return out
-
-
-def _summary_h5(path, summary: dict):
-    """A command's summary as HDF5: numbers and strings as attributes, numeric lists as datasets,
-    dicts as groups, anything else as a JSON string attribute."""
-    import h5py
-    from .. import __version__
-
-    def put(g, d):
-        for k, v in d.items():
-            if isinstance(v, dict):
-                put(g.create_group(k), v)
-            elif isinstance(v, (list, tuple, np.ndarray)):
-                try:
-                    g.create_dataset(k, data=np.asarray(v, dtype=float))
-                except (TypeError, ValueError):
-                    g.attrs[k] = json.dumps(v, default=float)
-            elif v is not None:
-                g.attrs[k] = v
-    with h5py.File(path, "w") as f:
-        f.attrs["fputlab_version"] = __version__
-        put(f, summary)

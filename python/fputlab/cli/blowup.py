@@ -3,8 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..io.summary import write_h5
 from ._common import (_emit, _ensemble_lattice_check, _homogeneous_check, _integrator_kwargs,
-                      _lattice, _new_file, _output_paths, _positive, _write_h5)
+                      _lattice, _new_file, _output_paths, _positive)
 from .parsers import (_alias, _ensemble_options, _fill, _finite_positive, _integrator_options,
                       _lattice_options, _one, _output_options, _sub, _time_options,
                       python_defaults)
@@ -18,14 +19,14 @@ def cmd_blowup(a):
     _new_file(a, "out")
     if a.sweep:
         _ensemble_lattice_check(a)
-        out = blowup_sweep(a.tau, Ns=a.N, realisations=a.realisations, t_max=a.t_end,
+        out = blowup_sweep(a.tau, Ns=a.N, realisations=a.realisations, t_end=a.t_end,
                            model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
                            workers=a.workers, scheduler=a.scheduler, progress=not a.json,
                            **_integrator_kwargs(a))
         summary = {"tau": out["tau"].tolist(), "N": out["N"].tolist(),
                    "probability": out["probability"].tolist() if len(a.N) > 1
                    else out["probability"][:, 0].tolist(),
-                   "realisations": a.realisations, "t_max": a.t_end,
+                   "realisations": a.realisations, "t_end": a.t_end,
                    "two_mode_prediction_accuracy": out["prediction_accuracy"],
                    # JSON keeps one named record per realisation; the text summary is for a
                    # person (five taus of 50 were 250 lines): the count, the records in --out
@@ -36,7 +37,7 @@ def cmd_blowup(a):
             # the file keeps its layout: records as rows of floats (tau, N, seed, blew_up,
             # time, tau_c), the BlowupRecord fields in order
             rec = np.array([tuple(r) for r in out["records"]], dtype=float)
-            _write_h5(a.out, {"t_max": a.t_end, "model": a.model,
+            write_h5(a.out, {"t_end": a.t_end, "model": a.model,
                               "N": a.N[0] if len(a.N) == 1 else np.asarray(a.N)},
                       {"tau": out["tau"], "probability": out["probability"], "records": rec})
         if a.plot:
@@ -70,7 +71,7 @@ def _parser_blowup(sub, parents):
                  seed="disorder seed; a sweep uses SEED, SEED + 1, ... (default 1)"),
                  _integrator_options(method=f"integrator (default {B['method']})",
                                      dt="fixed step (default 0.01)"),
-                 _time_options(B["t_max"], "final time: no blow-up before it is blew_up false"),
+                 _time_options(B["t_end"], "final time: no blow-up before it is blew_up false"),
                  _ensemble_options(f"disorder realisations per tau (default 1; in a sweep "
                                    f"{B['realisations']}, as blowup_sweep)"),
                  _output_options("HDF5 file with the sweep (default: none)")])

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import _emit, _new_file, _output_paths, _positive, _summary_h5, _write_h5
+from ..io.summary import write_h5, write_summary_h5
+from ._common import _emit, _new_file, _output_paths, _positive
 from .parsers import DISORDERS, MODELS, _alias, _output_options, _sub
 
 def _coefficient_row(lat) -> dict:
@@ -37,7 +38,7 @@ def cmd_coefficients(a):
                     "A_tilde = A3/(2 omega1), B_tilde = B1/(2 omega2)"}
     if a.out:
         names = ("a1", "a2", "a3", "b1", "b2", "b3")
-        _write_h5(a.out, {k: v for k, v in head.items()},
+        write_h5(a.out, {k: v for k, v in head.items()},
                   {"tau": [r["tau"] for r in rows],
                    "raw": [[r[n] for n in names] for r in rows],
                    "A": [[r[f"A{i}"] for i in (1, 2, 3)] for r in rows],
@@ -70,7 +71,7 @@ def cmd_tauc(a):
                        "to the R-realisation mean (the paper's method, 10.0749 %); "
                        "per_realisation: each realisation's own B~(tau) = 0"}
     if a.out:
-        _summary_h5(a.out, summary)
+        write_summary_h5(a.out, summary)
         summary["out"] = a.out
     _emit(summary, a.json)
     return 0
@@ -101,7 +102,7 @@ def cmd_bifurcation(a):
         from ..figures_reduction import fig7
         summary["plot"] = fig7(a.plot, N=a.N)["path"]
     if a.out:
-        _summary_h5(a.out, summary)
+        write_summary_h5(a.out, summary)
         summary["out"] = a.out
     _emit(summary, a.json)
     return 0

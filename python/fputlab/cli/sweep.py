@@ -31,14 +31,14 @@ def cmd_sweep(a):
     # --overwrite (the finished tasks in the work directory are kept and skipped either way)
     _new_file(a, "out", "; the finished tasks in the work directory are kept and skipped "
                         "either way")
-    out = run_sweep(a.kind, a.tau, a.N, a.realisations, t_max=a.t_end, work_dir=work_dir,
+    out = run_sweep(a.kind, a.tau, a.N, a.realisations, t_end=a.t_end, work_dir=work_dir,
                     out=a.out, model=a.model, alpha=a.alpha, first_seed=a.seed,
                     method=a.method, workers=a.workers, scheduler=a.scheduler,
                     progress=not a.json, **opts)
     what = "blew_up" if a.kind == "blowup" else "chaotic"
     summary = {"kind": a.kind, "out": out["out"], "work_dir": out["work_dir"],
                "tasks": out["n_tasks"], "computed": out["computed"], "skipped": out["skipped"],
-               "failed": len(out["failed"]), "t_max": a.t_end,
+               "failed": len(out["failed"]), "t_end": a.t_end,
                f"fraction_{what}": [{"tau": r["tau"], "N": r["N"], "n": r["n"],
                                      "fraction": r["fraction"]} for r in out["summary"]]}
     if out["failed"]:
@@ -67,7 +67,7 @@ def _parser_sweep(sub, parents):
                  _integrator_options(method="integrator (default yoshida4 for blowup, "
                                      "srkn14a6 for chaos)",
                                      dt="fixed step (default 0.01; chaos's srkn14a6: 0.5)"),
-                 _time_options(B["t_max"], "final time of every task"),
+                 _time_options(B["t_end"], "final time of every task"),
                  _ensemble_options(f"disorder realisations per (tau, N) (default "
                                    f"{B['realisations']} for blowup, {C['realisations']} for "
                                    "chaos)"),

@@ -79,6 +79,24 @@ class StudyStore:
             (self.path / name).unlink(missing_ok=True)
         write_bytes_atomic(desc, text)
 
+    @classmethod
+    def reader(cls, work_dir) -> "StudyStore":
+        """The study in `work_dir` opened for reading only: no lock (a runner may be at work:
+        every file is whole, old or new), nothing created or removed. Its description is
+        `doc`."""
+        self = cls.__new__(cls)
+        self.path = Path(work_dir)
+        self.tasks_dir = self.path / "tasks"
+        self._lock = None
+        desc = self.path / "study.json"
+        try:
+            self.doc = json.loads(desc.read_text())
+        except (OSError, ValueError) as err:
+            raise ValueError(f"{desc}: no readable study description ({err})") from None
+        if self.doc.get("format") != FORMAT:
+            raise ValueError(f"{desc}: not a study of the study engine")
+        return self
+
     # -- t_end -----------------------------------------------------------------------------
     def t_end(self) -> float | None:
         """The t_end the study was last run to (None: never)."""
@@ -116,9 +134,16 @@ class StudyStore:
                         g.create_dataset(name, data=arr)
         write_h5_atomic(self.task_path(task_id), fill)
 
-    def read_task(self, task_id: str, coords: dict) -> dict | None:
-        """The task's last report, None if it has none; ValueError for a damaged file or one of
-        another task (never silently recomputed over)."""
+    def fingerprint(self) -> tuple:
+        """Changes whenever a task file or the t_end does (a reader's cache key)."""
+        stamps = [(p.name, p.stat().st_mtime_ns) for p in self.tasks_dir.glob("*.h5")]
+        prog = self.path / "progress.json"
+        return (tuple(sorted(stamps)), prog.stat().st_mtime_ns if prog.exists() else 0)
+
+    def read_task(self, task_id: str, coords: dict, state: bool = True) -> dict | None:
+        """The task's last report (without its state unless `state`), None if it has none;
+        ValueError for a damaged file or one of another task (never silently recomputed
+        over)."""
         import h5py
         path = self.task_path(task_id)
         if not path.exists():
@@ -130,12 +155,12 @@ class StudyStore:
                     raise ValueError("belongs to another task")
                 out = {"t": float(f.attrs["t"]), "done": bool(f.attrs["done"]),
                        "message": str(f.attrs["message"]), "cpu": float(f.attrs["cpu"])}
-                for group in ("values", "state"):
+                for group in ("values", "state") if state else ("values",):
                     g = f[group]
                     d = {k: g[k][()] for k in g}
                     d.update({k: str(v) for k, v in g.attrs.items()})
                     out[group] = d
-                if not out["state"]:
+                if not out.get("state"):
                     out["state"] = None
                 return out
         except (OSError, KeyError, ValueError, TypeError) as err:
@@ -151,7 +176,8 @@ class StudyStore:
 
     # -- closing ---------------------------------------------------------------------------
     def close(self) -> None:
-        self._lock.release()
+        if self._lock is not None:
+            self._lock.release()
 
     def __enter__(self):
         return self
