@@ -33,7 +33,7 @@ import numpy as np
 
 from ._lowlevel import VERSION
 from ._engine import check_ensemble, process_pool, run_calls  # noqa: F401 (public here too)
-from ._validate import _renamed
+from ._validate import _finite_real, _path, _renamed, _seed
 from .io.atomic import write_h5_atomic
 
 #: kinds of task
@@ -312,12 +312,12 @@ def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, met
         raise ValueError(f"model {model!r} is unknown (known: {', '.join(MODELS)})")
     if model == "homogeneous" and any(t != 0 for t in taus):
         raise ValueError("taus: the homogeneous model has no disorder (use taus=[0])")
-    alpha = float(alpha)
-    if not math.isfinite(alpha):
-        raise ValueError(f"alpha must be finite (got {alpha})")
+    alpha = _finite_real(alpha, "alpha")          # a TypeError naming alpha, not float()'s
     if isinstance(first_seed, bool) or not isinstance(first_seed, (int, np.integer)) \
             or first_seed < 0:
         raise ValueError(f"first_seed must be an integer >= 0 (got {first_seed!r})")
+    # every seed is a C unsigned 64-bit integer (2**64 failed inside HDF5 with a dtype message)
+    _seed(int(first_seed) + int(realisations) - 1, "first_seed + realisations - 1")
     if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
         raise ValueError(f"workers must be an integer >= 1 (got {workers!r})")
     if kind == "chaos":      # the validated fast scheme and early stop, unless given
@@ -433,6 +433,7 @@ def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
                                              first_seed, method, workers, task_options)
     if work_dir is None or out is None:
         raise ValueError("work_dir and out are required")
+    work_dir, out = _path(work_dir, "work_dir"), _path(out, "out")   # bytes, NUL, "" checked
     work = Path(work_dir)
     work.mkdir(parents=True, exist_ok=True)
     key = spec.key()

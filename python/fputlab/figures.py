@@ -182,9 +182,13 @@ def chaos_study(work_dir=None, *, full=False, t_until=None, workers=None, schedu
     30 realisations, N = 4..64, t_end = 1e8), continued in `work_dir` (default
     out_dir/chaos_study) up to t_until (default 1e8 with full, else 1e5). Orbits that already
     reached t_until are not recomputed, so a second call redraws in seconds."""
-    from .chaos.study import ChaosStudy
+    from dataclasses import asdict
+
+    from .chaos.study import ChaosStudy, StudySpec
+    # every parameter of the paper's study, not only the ones given: a work directory holding
+    # a study with other parameters is refused instead of being drawn as Figs. 12-14
     study = ChaosStudy(work_dir if work_dir is not None else os.path.join(out_dir, "chaos_study"),
-                       **params)
+                       **{**asdict(StudySpec()), **params})
     t_until = (study.spec.t_end if full else min(QUICK_STUDY_T, study.spec.t_end)) \
         if t_until is None else float(t_until)
     if study.reached() < min(t_until, study.spec.t_end):
@@ -300,22 +304,32 @@ def fig12_13(out_dir=".", *, full: bool = False, **study_options):
             fig14(out_dir, study=study)]
 
 
-def all_figures(out_dir="figures", full=False, only=None, **study_kwargs):
+def all_figures(out_dir="figures", full=False, only=None, report=None, **study_kwargs):
     """Regenerate every figure (1-14); `only` is an optional set of figure numbers;
     study_kwargs (work_dir, t_until, workers, scheduler) go to `chaos_study` (Figs. 12-14).
-    Figs. 1-11 are called as ``figN(out_dir, full=full)``."""
+    Figs. 1-11 are called as ``figN(out_dir, full=full)``. `report(k, path)`, if given, is
+    called before figure k (path None) and after it (its path): progress, since some figures
+    take minutes."""
     paths = []
     want = lambda k: only is None or k in only
+
+    def make(k, fn, *args, **kw):
+        if report is not None:
+            report(k, None)
+        paths.append(fn(*args, **kw))
+        if report is not None:
+            report(k, paths[-1])
+
     for k, fn in ((1, fig1), (2, fig2), (3, fig3), (11, fig11)):
         if want(k):
-            paths.append(fn(out_dir, full=full))
+            make(k, fn, out_dir, full=full)
     if want(12) or want(13) or want(14):
         study = chaos_study(full=full, out_dir=out_dir, **study_kwargs)
         for k, fn in ((12, fig12), (13, fig13), (14, fig14)):
             if want(k):
-                paths.append(fn(out_dir, study=study))
+                make(k, fn, out_dir, study=study)
     from .figures_reduction import FIGURES
     for k in range(4, 11):
         if want(k):
-            paths.append(FIGURES[k](out_dir, full=full))
+            make(k, FIGURES[k], out_dir, full=full)
     return paths

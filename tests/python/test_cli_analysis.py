@@ -76,7 +76,11 @@ def test_sweep_cli_resumes(tmp_path, capsys):
     out = _json(capsys, argv)
     assert (out["tasks"], out["computed"], out["skipped"], out["failed"]) == (2, 2, 0, 0)
     assert out["work_dir"] == str(tmp_path / "s.h5") + ".tasks"
-    out = _json(capsys, argv)
+    # the merged file is not rewritten without --overwrite (issue 26): refused, nothing run
+    before = (tmp_path / "s.h5").read_bytes()
+    assert main(argv) == 2 and "--overwrite" in capsys.readouterr().err
+    assert (tmp_path / "s.h5").read_bytes() == before
+    out = _json(capsys, argv + ["--overwrite"])
     assert (out["computed"], out["skipped"]) == (0, 2)
     assert out["fraction_blew_up"] == [{"tau": 10.0, "N": 8, "n": 2, "fraction": 0.0}]
     out = _json(capsys, ["sweep", "--kind", "chaos", "--tau", "10", "--N", "8",
@@ -98,7 +102,22 @@ def test_help(cmd, capsys):
 @pytest.mark.parametrize("argv, name", [
     (["sweep", "--realisations", "0"], "realisations"),
     (["sweep", "--t-end", "0"], "--t-end"),
-    (["sweep", "--N", "1"], "Ns"),
+    (["sweep", "--N", "1"], "--N must be >= 2"),
+    (["sweep", "--N", "2147483648"], "--N"),
+    (["sweep", "--dt", "0"], "--dt must be finite and > 0"),
+    (["sweep", "--seed", str(2**64 - 1)], "--seed + --realisations"),
+    (["sweep", "--seed", "-1"], "--seed must be >= 0"),
+    (["sweep", "--realisations", "2147483648"], "--realisations"),
+    (["sweep", "--realisations", "2000000000"], "tasks"),
+    (["simulate", "--seed", "-1"], "--seed"),
+    (["simulate", "--seed", str(2**64)], "--seed"),
+    (["simulate", "--seed", "5"], "homogeneous model has no disorder"),
+    (["simulate", "--out", ""], "--out: empty file name"),
+    (["simulate", "--out", "/dev/null", "--overwrite"], "not a regular file"),
+    (["simulate", "--t-end", "10", "--dt", "1e308"], "not one step fits"),
+    (["blowup", "--tau", "10", "--out", "/dev/null", "--overwrite"], "not a regular file"),
+    (["tauc", "--fit-taus", "1", "1", "1"], "at least 3 distinct"),
+    (["tauc", "--fit-taus", "0"], "at least 3 distinct"),
     (["sweep", "--samples", "10"], "--samples"),
     (["coefficients", "--N", "1"], "N must be >= 2"),
     (["coefficients", "--model", "homogeneous", "--tau", "5"], "tau"),
@@ -119,3 +138,62 @@ def test_unknown_kind_is_a_usage_error(capsys):
         main(["sweep", "--kind", "lyapunov"])
     assert e.value.code == 2
     assert "--kind" in capsys.readouterr().err
+
+
+def test_blowup_text_summary_counts_records_and_one_realisation_refuses_plot(tmp_path, capsys):
+    assert main(["blowup", "--tau", "0", "40", "--N", "8", "--realisations", "3", "--t-end",
+                 "100", "--workers", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "records: 6 (write them with --out FILE)" in text and "'seed'" not in text
+    assert text.count("\n") < 12
+    for extra in (["--plot", str(tmp_path / "p.png")], ["--out", str(tmp_path / "b.h5")]):
+        assert main(["blowup", "--tau", "10", "--t-end", "10", *extra]) == 2
+        assert "only for a sweep" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())
+
+
+def test_unknown_option_shows_the_subcommands_usage(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["simulate", "--Ns", "8"])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: fputlab simulate") and "unrecognized arguments: --Ns" in err
+
+
+def test_simulate_summary_says_what_a_user_needs(tmp_path, capsys):
+    out = _json(capsys, ["simulate", "--N", "8", "--t-end", "50", "--out",
+                         str(tmp_path / "r.h5"), "--checkpoint", str(tmp_path / "r.ck")])
+    assert out["t_end"] == 50 and out["samples"] == 1001 and out["checkpoint"].endswith("r.ck")
+    ref = fputlab.load(tmp_path / "r.h5").energy
+    assert out["max_relative_energy_error"] == pytest.approx(
+        np.max(np.abs(ref - ref[0])) / abs(ref[0]))
+    out = _json(capsys, ["simulate", "--N", "8", "--t-end", "50"])
+    assert out["sample_every"] == pytest.approx(0.05) and out["steps"] == 5000
+
+
+def test_default_sampling_that_aliases_is_said(capsys):
+    assert main(["simulate", "--N", "4", "--t-end", "2e4", "--dt", "0.5", "--json"]) == 0
+    err = capsys.readouterr().err
+    assert "undersampled" in err and "--sample-every" in err
+    assert main(["simulate", "--N", "4", "--t-end", "2e4", "--dt", "0.5", "--sample-every", "1",
+                 "--json"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_figures_checks_t_end_and_the_study_before_drawing(tmp_path, capsys):
+    from fputlab.chaos.study import ChaosStudy
+    ChaosStudy(tmp_path / "other", Ns=(4,), realisations=1, t_end=100.0)
+    for argv, msg in ((["--t-end", "nan"], "--t-end must be finite"),
+                      (["--t-end", "-1"], "--t-end must be finite"),
+                      (["--work-dir", str(tmp_path / "other")], "other parameters")):
+        assert main(["figures", "--out-dir", str(tmp_path / "figs"), *argv]) == 2
+        assert msg in capsys.readouterr().err
+    assert not (tmp_path / "figs").exists()
+
+
+def test_figures_report_each_figure_as_it_goes(tmp_path, capsys):
+    assert main(["figures", "--out-dir", str(tmp_path), "--only", "7", "9"]) == 0
+    cap = capsys.readouterr()
+    assert cap.err.splitlines() == ["fputlab: figure 7 (1/2) ...", "fputlab: figure 9 (2/2) ..."]
+    assert cap.out.split() == [str(tmp_path / "fig07_bifurcation.png"),
+                               str(tmp_path / "fig09_phase_portraits.png")]

@@ -11,7 +11,16 @@ A new command: a module with ``_parser_<name>(sub, parents)`` that adds its subp
 ``parsers._sub`` and the parent parsers it needs) and sets ``func=`` (and ``resolve=`` when
 defaults depend on the form), listed in `main.SUBCOMMANDS`.
 """
-from .main import SUBCOMMANDS, build_parser, main, parse_args
-from .parsers import python_defaults
+try:
+    from .main import SUBCOMMANDS, build_parser, main, parse_args
+    from .parsers import python_defaults
+except KeyboardInterrupt:          # Ctrl-C while the command starts: one line, 130
+    import sys
+
+    from .. import _command_line_start
+    if not _command_line_start():
+        raise
+    print("fputlab: interrupted", file=sys.stderr)
+    raise SystemExit(130) from None
 
 __all__ = ["main", "build_parser", "parse_args", "python_defaults", "SUBCOMMANDS"]

@@ -24,6 +24,51 @@ def _homogeneous_check(a):
                          "(use --model hamiltonian or nonlinear, or drop --tau)")
 
 
+#: the most tasks one sweep may have (every task is a record in memory and a file on disk)
+MAX_SWEEP_TASKS = 10**7
+
+
+def _check_args(a):
+    """The checks every command shares, before anything runs: file names (not empty, no NUL),
+    seeds in [0, 2**64) and only with disorder, sizes and counts in range, steps and tolerances
+    finite and > 0, and sweeps of a size that fits in memory."""
+    from .._arrays import check_memory
+    from .._validate import C_INT, _int, _path, _positive_real, _seed
+    for name in ("out", "checkpoint", "plot", "work_dir", "out_dir"):
+        if getattr(a, name, None) is not None:
+            setattr(a, name, _path(getattr(a, name), "--" + name.replace("_", "-")))
+    if getattr(a, "seed", None) is not None:
+        _seed(a.seed, "--seed")
+        if getattr(a, "model", None) == "homogeneous" and getattr(a, "seed_given", False):
+            raise ValueError(f"--seed {a.seed}: the homogeneous model has no disorder (use "
+                             "--model hamiltonian or nonlinear, or drop --seed)")
+    for name in ("dt", "rtol", "atol", "sample_every"):
+        if getattr(a, name, None) is not None:
+            _positive_real(getattr(a, name), "--" + name.replace("_", "-"))
+    sizes = getattr(a, "N", None)
+    for n in (sizes if isinstance(sizes, list) else [sizes] if sizes is not None else []):
+        n = _int(n, "--N", C_INT)
+        if n < 2:
+            raise ValueError(f"--N must be >= 2 (got {n})")
+        from ..lattice import _BYTES_PER_SITE
+        check_memory(_BYTES_PER_SITE * n, f"a lattice of N = {n}")
+    for name in ("realisations", "workers", "samples"):
+        value = getattr(a, name, None)
+        if value is not None:
+            value = _int(value, "--" + name, C_INT)
+            if value < 1:
+                raise ValueError(f"--{name} must be >= 1 (got {value})")
+    reps = getattr(a, "realisations", None)
+    if reps is not None and isinstance(sizes, list):
+        taus = getattr(a, "tau", None)
+        tasks = reps * len(sizes) * (len(taus) if isinstance(taus, list) else 1)
+        if tasks > MAX_SWEEP_TASKS:
+            raise ValueError(f"--realisations {reps}: {tasks:.3g} tasks, more than "
+                             f"{MAX_SWEEP_TASKS:.0e} in one sweep; split it")
+        if reps * 1.0 >= 2**64 or (getattr(a, "seed", None) or 0) + reps > 2**64:
+            raise ValueError("--seed + --realisations: the seeds pass 2**64 - 1")
+
+
 def _g(v) -> str:
     """A default as --help shows it."""
     if isinstance(v, (list, tuple)):
@@ -87,17 +132,20 @@ def _output_paths(a, *names):
                                  f"--{n1.replace('_', '-')}: every output needs its own path")
 
 
-def _new_file(a, name: str):
+def _new_file(a, name: str, extra: str = ""):
     """An output file that is written from scratch: refuse to replace an existing one unless
-    --overwrite."""
+    --overwrite (`extra`: what else the message should say)."""
     path = getattr(a, name, None)
     if not path:
         return
     if os.path.isdir(path):
         raise ValueError(f"--{name}: {path!r} is a directory")
+    if os.path.exists(path) and not os.path.isfile(path):
+        raise ValueError(f"--{name}: {path!r} is not a regular file (a device, FIFO or socket "
+                         "cannot hold an HDF5 file)")
     if os.path.exists(path) and not getattr(a, "overwrite", False):
         raise FileExistsError(f"--{name}: {path!r} exists; not overwritten (pass --overwrite to "
-                              "replace it)")
+                              f"replace it{extra})")
 
 
 def _integrator_kwargs(a) -> dict:

@@ -1,6 +1,9 @@
 """`fputlab figures`: the paper's figures."""
 from __future__ import annotations
 
+import os
+import sys
+
 from .parsers import _alias, _sub
 
 #: the figure sets beyond the paper's numbered figures
@@ -25,20 +28,40 @@ def cmd_figures(a):
     from ..figures import all_figures
     keys = [_figure_key(k) for k in a.only] if a.only else None
     only = {k for k in keys if isinstance(k, int)} if keys else None
-    if a.t_end is not None and not (a.t_end > 0 and a.t_end < float("inf")):
-        raise ValueError(f"--t-end must be finite and > 0 (got {a.t_end:g})")
+    if a.t_end is not None:     # checked now, not after minutes of Figs. 1-11
+        from .._validate import _positive_real
+        _positive_real(a.t_end, "--t-end")
     if keys is None or only:
+        if a.work_dir and os.path.exists(os.path.join(a.work_dir, "study.json")) and \
+                (only is None or only & {12, 13, 14}):
+            # a study with other parameters is refused now, not after Figs. 1-11
+            from dataclasses import asdict
+
+            from ..chaos.study import ChaosStudy, StudySpec
+            ChaosStudy(a.work_dir, **asdict(StudySpec()))
         study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
                  "scheduler": a.scheduler}
-        for p in all_figures(a.out_dir, full=a.full, only=only, **study):
-            print(p)
+        total = len(only) if only else 14
+        done = []
+
+        def report(k, path):
+            # what is being made now (stderr; some figures take minutes), each file when written
+            if path is None:
+                print(f"fputlab: figure {k} ({len(done) + 1}/{total}) ...", file=sys.stderr,
+                      flush=True)
+            else:
+                done.append(path)
+                print(path, flush=True)
+
+        all_figures(a.out_dir, full=a.full, only=only, report=report, **study)
     if keys is not None and OPEN_QUESTIONS in keys:
         # the studies of the paper's open questions (docs/open_questions.md): drawn from the
-        # stored studies, continued to --t-end when given
+        # stored studies, continued to --t-end when given; --work-dir is theirs unless
+        # numbered figures (whose chaos study it then is) are made in the same call
         from ..figures_open import open_questions
-        for p in open_questions(a.out_dir, work_dir=a.work_dir or "studies/open_questions",
-                                t_until=a.t_end, workers=a.workers):
-            print(p)
+        work = a.work_dir if a.work_dir and not only else "studies/open_questions"
+        for p in open_questions(a.out_dir, work_dir=work, t_until=a.t_end, workers=a.workers):
+            print(p, flush=True)
     return 0
 
 

@@ -36,9 +36,22 @@ def build_parser():
     return p
 
 
+def _parse(parser, argv):
+    """parse_args, except that an option the subcommand does not know is reported by the
+    subcommand's parser (its usage, not the top-level one: `simulate --Ns 8`)."""
+    a, extras = parser.parse_known_args(argv)
+    if extras:
+        sub = getattr(a, "command", None)
+        subparsers = [act for act in parser._actions
+                      if isinstance(act, argparse._SubParsersAction)]
+        target = subparsers[0].choices.get(sub, parser) if sub and subparsers else parser
+        target.error(f"unrecognized arguments: {' '.join(extras)}")
+    return a
+
+
 def parse_args(argv):
     """The arguments of a command line with every default resolved (as the subcommand runs)."""
-    a = build_parser().parse_args(argv)
+    a = _parse(build_parser(), argv)
     if getattr(a, "resolve", None):
         a.resolve(a)
     return a
@@ -49,7 +62,7 @@ def _run(argv) -> int:
         from ..demo import main as demo_main
         return demo_main(argv[1:])
     parser = build_parser()
-    a = parser.parse_args(argv)
+    a = _parse(parser, argv)
     if a.version:
         from .. import __version__
         print(__version__)
@@ -59,6 +72,8 @@ def _run(argv) -> int:
         return 2
     if getattr(a, "resolve", None):
         a.resolve(a)
+    from ._common import _check_args
+    _check_args(a)
     return a.func(a)
 
 

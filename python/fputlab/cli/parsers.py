@@ -46,8 +46,18 @@ def python_defaults() -> dict:
             "run_sweep": _signature_defaults(run_sweep)}
 
 
+class _Given(argparse._StoreAction):
+    """Store, and note that the option was given (`<dest>_given`): a default and the same value
+    typed by the user are not the same thing (the homogeneous model refuses a --seed)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest + "_given", True)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class _Deprecated(argparse._StoreAction):
-    """An old spelling of an option: hidden from --help, still works, says what replaced it."""
+    """An old spelling of an option: hidden from --help, still works, says what replaced it
+    (and, like the new spelling, that it was given, where that matters)."""
 
     def __init__(self, option_strings, dest, replacement="", **kw):
         super().__init__(option_strings, dest, **kw)
@@ -56,6 +66,8 @@ class _Deprecated(argparse._StoreAction):
     def __call__(self, parser, namespace, values, option_string=None):
         print(f"fputlab: warning: {option_string} is deprecated; use {self.replacement}",
               file=sys.stderr)
+        if any(isinstance(act, _Given) and act.dest == self.dest for act in parser._actions):
+            setattr(namespace, self.dest + "_given", True)
         super().__call__(parser, namespace, values, option_string)
 
 
@@ -82,7 +94,7 @@ def _lattice_options(*, N: str, model: str, tau: str, several: tuple = (),
     # default None: whether --tau was given matters (the homogeneous model refuses it)
     g.add_argument("--tau", type=float, nargs="+" if "tau" in several else None, default=None,
                    help=tau)
-    g.add_argument("--seed", type=int, default=1, help=seed)
+    g.add_argument("--seed", type=int, default=1, action=_Given, help=seed)
     g.add_argument("--disorder", default=L["disorder"], choices=DISORDERS,
                    help=f"distribution of the disorder draws (default {L['disorder']})")
     return p

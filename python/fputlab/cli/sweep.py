@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import os
 
-from ._common import _emit, _ensemble_lattice_check, _g, _integrator_kwargs, _output_paths
+from ._common import (_emit, _ensemble_lattice_check, _g, _integrator_kwargs, _new_file,
+                      _output_paths)
 from .parsers import (SWEEP_BLOWUP_TAUS, _alias, _ensemble_options, _fill, _finite_positive,
                       _integrator_options, _lattice_options, _output_options, _sub,
                       _time_options, python_defaults)
@@ -26,6 +27,10 @@ def cmd_sweep(a):
     if os.path.realpath(a.out).startswith(os.path.realpath(work_dir) + os.sep):
         raise ValueError(f"--out {a.out!r} is inside --work-dir {work_dir!r}: keep the merged "
                          "file out of the task folder")
+    # the merged file is rewritten from the tasks: like every other output, only with
+    # --overwrite (the finished tasks in the work directory are kept and skipped either way)
+    _new_file(a, "out", "; the finished tasks in the work directory are kept and skipped "
+                        "either way")
     out = run_sweep(a.kind, a.tau, a.N, a.realisations, t_end=a.t_end, work_dir=work_dir,
                     out=a.out, model=a.model, alpha=a.alpha, first_seed=a.seed,
                     method=a.method, workers=a.workers, scheduler=a.scheduler,
@@ -66,8 +71,7 @@ def _parser_sweep(sub, parents):
                  _ensemble_options(f"disorder realisations per (tau, N) (default "
                                    f"{B['realisations']} for blowup, {C['realisations']} for "
                                    "chaos)"),
-                 _output_options("merged HDF5 file (default sweep.h5)", out_default="sweep.h5",
-                                 overwrite=False)])
+                 _output_options("merged HDF5 file (default sweep.h5)", out_default="sweep.h5")])
     s.add_argument("--kind", default="blowup", choices=["blowup", "chaos"],
                    help="blowup: blow-up time up to --t-end; chaos: mLE/SALI up to --t-end "
                         "(default blowup)")
