@@ -93,14 +93,16 @@ def test_recurrence_kind_starts_in_mode_1_and_returns():
 
 @pytest.mark.skipif(not (STUDIES / "monotone").is_dir(), reason="no stored study")
 def test_readme_table_is_the_stored_study():
-    """The README's table of the monotonicity study is generated from the stored study: the
-    numbers there equal the ones computed from it now."""
+    """The tables of the monotonicity study in the README and docs/open_questions.md are
+    generated from the stored study: their numbers equal the ones computed from it now."""
     from fputlab.chaos.outcomes import outcomes_from_dataset
     from fputlab.chaos.study import ChaosStudy
     from fputlab.figures_open import monotone_markdown
-    readme = (ROOT / "README.md").read_text()
-    tables = re.findall(r"<!-- open-questions t=(\S+) -->\n(.*?)\n<!-- end -->", readme, re.S)
-    assert tables, "README has no generated open-questions table"
     o = outcomes_from_dataset(ChaosStudy(STUDIES / "monotone").result().to_xarray())
-    for t, table in tables:
-        assert table.strip() == monotone_markdown(outcome_table(o, [float(t)]), float(t))
+    for page in ("README.md", "docs/open_questions.md"):
+        text = (ROOT / page).read_text()
+        tables = re.findall(r"<!-- open-questions t=(\S+) -->\n(.*?)\n<!-- end -->", text,
+                            re.S)
+        assert tables, f"{page} has no generated open-questions table"
+        for t, table in tables:
+            assert table.strip() == monotone_markdown(outcome_table(o, [float(t)]), float(t))
