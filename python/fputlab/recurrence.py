@@ -23,7 +23,8 @@ import time
 
 import numpy as np
 
-from ._validate import _int, _real
+from ._validate import _real
+from .chaos.ensemble import _check_values
 from .engine import StudyKind
 from .integrate import integrate
 from .lattice import MODELS, Lattice
@@ -59,20 +60,6 @@ def recurrence_quality(t, share, t_recurrence: float) -> tuple[float, float]:
     return peak, dip
 
 
-def _values(name, values, kind, minimum):
-    try:
-        vals = [kind(v) for v in np.atleast_1d(values).tolist()]
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers (got {values!r})") from None
-    if not vals:
-        raise ValueError(f"{name} must not be empty")
-    if any(not math.isfinite(v) or v < minimum for v in vals):
-        raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")
-    if len(set(vals)) != len(vals):
-        raise ValueError(f"{name} must not repeat values (got {vals})")
-    return vals
-
-
 class RecurrenceKind(StudyKind):
     """Mode shares s_1..s_4 of the paper's mode-1 state per (N, tau, seed), sampled every
     `sample_every` to t_end; a blow-up ends a run (see the module docstring)."""
@@ -93,9 +80,9 @@ class RecurrenceKind(StudyKind):
                    "mode": {"long_name": "normal mode k", "units": "1"}}
 
     def normalise(self, grid, settings):
-        grid = {"N": [int(v) for v in _values("Ns", grid["N"], float, 2)],
-                "tau": _values("tau", grid["tau"], float, 0.0),
-                "seed": [int(v) for v in _values("seeds", grid["seed"], float, 0)]}
+        grid = {"N": _check_values(grid["N"], "Ns", int, 2),
+                "tau": _check_values(grid["tau"], "tau", float, 0.0),
+                "seed": _check_values(grid["seed"], "seeds", int, 0)}
         unknown = set(settings) - set(_SETTINGS)
         if unknown:
             raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of recurrence "
