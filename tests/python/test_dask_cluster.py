@@ -72,12 +72,24 @@ def test_a_killed_worker_changes_nothing_a_lost_scheduler_leaves_a_resumable_sto
     # the cluster's threads size the tasks: 2 threads, not this machine's cores
     assert _engine.total_threads(scheduler=address) == 2
 
-    killer = threading.Timer(1.0, lambda: procs["worker1"].send_signal(signal.SIGKILL))
+    # the worker dies as soon as the first group of orbits has reported (a fixed delay raced
+    # the run on a quiet machine): the others are still running or waiting then
+    done = threading.Event()
+
+    def kill_after_first_report(proc=procs["worker1"], tasks=tmp_path / "a" / "tasks"):
+        while not done.is_set() and proc.poll() is None:
+            if tasks.is_dir() and any(tasks.iterdir()):
+                proc.send_signal(signal.SIGKILL)
+                return
+            time.sleep(0.005)
+
+    killer = threading.Thread(target=kill_after_first_report, daemon=True)
     killer.start()
     try:
         out = chaos.chaotic_fraction(scheduler=address, work_dir=tmp_path / "a", **STUDY)
     finally:
-        killer.cancel()
+        done.set()
+        killer.join()
     assert procs["worker1"].poll() is not None          # killed during the run, not after
     tasks = sorted(os.listdir(tmp_path / "a" / "tasks"))
     assert len(tasks) == len(set(tasks)) == 12 and out.computed == 12

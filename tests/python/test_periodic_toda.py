@@ -235,9 +235,9 @@ def test_unsupported_combinations_refuse_with_a_message():
     with pytest.raises(ValueError, match="model"):
         fputlab.Integrator(toda, toda.mode_state(1, 0.1), method="aba864-harmonic")
     with pytest.raises(ValueError, match="boundary"):
-        fputlab.chaos_batch.lyapunov_batch([ring, ring], 1.0)
+        fputlab.chaos.lyapunov_batch([ring, ring], 1.0)
     with pytest.raises(ValueError, match="model"):
-        fputlab.chaos_batch.lyapunov_batch([toda, toda], 1.0)
+        fputlab.chaos.lyapunov_batch([toda, toda], 1.0)
 
 
 @pytest.mark.parametrize("model", ALL_MODELS)
