@@ -2,6 +2,7 @@
 study survives a killed worker (complete, unduplicated, identical to the process-pool run), a
 lost scheduler raises a clear error and leaves a store that a rerun completes, and an
 unreachable scheduler fails within the connect timeout, naming the address."""
+import contextlib
 import os
 import shutil
 import signal
@@ -65,6 +66,28 @@ def cluster(tmp_path):
             p.wait()
 
 
+@contextlib.contextmanager
+def _kill_on_first_report(proc, tasks_dir):
+    """SIGKILL `proc` as soon as the study's first task file appears (mid-run, whatever the
+    machine's speed), from a thread watching `tasks_dir` while the body runs."""
+    done = threading.Event()
+
+    def watch():
+        while not done.is_set() and proc.poll() is None:
+            if tasks_dir.is_dir() and any(tasks_dir.iterdir()):
+                proc.send_signal(signal.SIGKILL)
+                return
+            time.sleep(0.005)
+
+    killer = threading.Thread(target=watch, daemon=True)
+    killer.start()
+    try:
+        yield
+    finally:
+        done.set()
+        killer.join()
+
+
 def test_a_killed_worker_changes_nothing_a_lost_scheduler_leaves_a_resumable_store(cluster,
                                                                                     tmp_path):
     address, procs = cluster
@@ -74,35 +97,17 @@ def test_a_killed_worker_changes_nothing_a_lost_scheduler_leaves_a_resumable_sto
 
     # the worker dies as soon as the first group of orbits has reported (a fixed delay raced
     # the run on a quiet machine): the others are still running or waiting then
-    done = threading.Event()
-
-    def kill_after_first_report(proc=procs["worker1"], tasks=tmp_path / "a" / "tasks"):
-        while not done.is_set() and proc.poll() is None:
-            if tasks.is_dir() and any(tasks.iterdir()):
-                proc.send_signal(signal.SIGKILL)
-                return
-            time.sleep(0.005)
-
-    killer = threading.Thread(target=kill_after_first_report, daemon=True)
-    killer.start()
-    try:
+    with _kill_on_first_report(procs["worker1"], tmp_path / "a" / "tasks"):
         out = chaos.chaotic_fraction(scheduler=address, work_dir=tmp_path / "a", **STUDY)
-    finally:
-        done.set()
-        killer.join()
     assert procs["worker1"].poll() is not None          # killed during the run, not after
     tasks = sorted(os.listdir(tmp_path / "a" / "tasks"))
     assert len(tasks) == len(set(tasks)) == 12 and out.computed == 12
     _same(local, out.to_xarray())
 
     # the scheduler goes away mid-run: a clear error, and the store continues locally
-    killer = threading.Timer(1.0, lambda: procs["scheduler"].send_signal(signal.SIGKILL))
-    killer.start()
-    try:
+    with _kill_on_first_report(procs["scheduler"], tmp_path / "b" / "tasks"):
         with pytest.raises((_engine.SchedulerLost, OSError), match="scheduler"):
             chaos.chaotic_fraction(scheduler=address, work_dir=tmp_path / "b", **STUDY)
-    finally:
-        killer.cancel()
     resumed = chaos.chaotic_fraction(workers=2, work_dir=tmp_path / "b", **STUDY)
     _same(local, resumed.to_xarray())
 
