@@ -20,6 +20,9 @@ from .integrate import CRITERIA, Integrator, check_steps, method_info  # noqa: F
 from .lattice import Lattice
 from .reduction import realisation_quadratics
 
+__all__ = ["blowup_time", "blowup_sweep", "Blowup", "BlowupRecord", "default_criteria",
+           "realisation_tau_c", "CRITERIA"]
+
 def default_criteria(lattice: Lattice) -> list[tuple]:
     """The cubic potential's barrier: a bond stretched beyond 1/alpha has escaped (V'(s) = 0 at
     s = -1/alpha); without alpha, ``|x_j| > 100``."""

@@ -20,6 +20,9 @@ from .chaos_batch import BATCH_METHODS, lyapunov_batch
 from .integrate import method_info
 from .lattice import Lattice
 
+__all__ = ["lyapunov", "chaotic_fraction", "sali", "gali", "ChaosResult", "OrbitRecord", "CLASSES",
+           "classify_orbit"]
+
 
 #: The default integrator of chaos ensembles (chaotic_fraction, sweeps, the study behind
 #: Figs. 12-14): the fastest scheme validated (tests/python/test_study.py,

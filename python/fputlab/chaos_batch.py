@@ -18,6 +18,8 @@ from ._validate import _int, _real
 from .integrate import criteria_events
 from .lattice import Lattice
 
+__all__ = ["lyapunov_batch", "BATCH_METHODS"]
+
 #: methods the batch kernel runs (splitting schemes with the kinetic drift)
 BATCH_METHODS = ("leapfrog", "yoshida4", "aba864", "srkn14a6")
 

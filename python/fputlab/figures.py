@@ -9,6 +9,9 @@ import os
 
 import numpy as np
 
+__all__ = ["fig1", "fig2", "fig3", "fig11", "fig12", "fig13", "fig14", "fig12_13", "chaos_study",
+           "all_figures", "QUICK_STUDY_T"]
+
 
 def _plt():
     import matplotlib

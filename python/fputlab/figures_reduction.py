@@ -20,6 +20,9 @@ from ._figure import Figure, target
 from .plotting import plot_bifurcation, plot_bifurcation_curves, plot_two_mode
 from .lattice import Lattice
 
+__all__ = ["fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "FIGURES", "PAPER_LIKE_SEED",
+           "PAPER_POINTS", "paper_like_seed", "example_main"]
+
 PAPER_LIKE_SEED = 578
 #: (A~, B~) the paper quotes for Figs. 9(a), 9(b) and 10
 PAPER_POINTS = {"tau0": (3.63, 0.91), "tau10": (4.97, 0.05), "blowup": (5.3932, -0.0015)}

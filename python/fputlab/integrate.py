@@ -16,6 +16,8 @@ from ._pacing import Pacer, first_span
 from ._validate import C_LONG, _int, _positive_real, _real
 from .lattice import Lattice
 
+__all__ = ["integrate", "Integrator", "Run", "iter_samples", "methods", "method_info", "CRITERIA"]
+
 
 def methods() -> list[str]:
     """Names of all integration methods."""

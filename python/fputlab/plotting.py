@@ -24,6 +24,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
+__all__ = ["plot_mode_energies", "envelope", "plot_envelope", "plot_mle", "plot_sali",
+           "plot_two_mode", "plot_blowup_sweep", "plot_blowup_sweep_figure",
+           "plot_bifurcation_curves", "plot_bifurcation", "BIFURCATION_REGIONS"]
+
 
 def _axes(ax, figsize=(6, 4)):
     if ax is not None:

@@ -16,6 +16,9 @@ from .._errors import check, last_error
 from ..integrate import method_info
 from ..lattice import Lattice
 
+__all__ = ["load", "Results", "ResultsFile", "write_checkpoint", "load_checkpoint",
+           "checkpoint_time", "STATUSES", "VERIFY_TIMEOUT"]
+
 #: how a run ended, as written to the file's `status` attribute
 STATUSES = ("running", "completed", "event", "failed", "interrupted")
 

@@ -12,6 +12,9 @@ from .._validate import _finite_real
 from .coefficients import r1_squared
 from .envelope import envelope_run
 
+__all__ = ["to_reduced", "Equilibrium", "ReducedSystem", "equilibrium_map", "bifurcation_curves",
+           "REGIONS", "classify"]
+
 
 
 def to_reduced(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
