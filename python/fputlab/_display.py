@@ -74,7 +74,7 @@ def dataclass_repr(obj, lead=(), skip=(), max_len: int = 220) -> str:
             if items:
                 rest.append(f"{f.name}={{{', '.join(items)}}}")
         elif isinstance(value, str):
-            texts.append(f"{f.name}={value[:60] + '...' if len(value) > 60 else value!r}")
+            texts.append(f"{f.name}={shorten(value, 60)!r}")
         elif isinstance(value, (bool, np.bool_)):
             flags.append(f"{f.name}={fmt(value)}")
         elif isinstance(value, (int, float, np.generic)):
@@ -84,9 +84,31 @@ def dataclass_repr(obj, lead=(), skip=(), max_len: int = 220) -> str:
         else:
             text = repr(value)
             rest.append(f"{f.name}={text if len(text) <= 60 else type(value).__name__}")
-    parts = list(lead) + flags + numbers + texts + rest
-    text = f"{type(obj).__name__}({', '.join(parts)})"
-    return text if len(text) <= max_len else text[:max_len - 4] + "...)"
+    return join_parts(type(obj).__name__, list(lead) + flags + numbers + texts + rest, max_len)
+
+
+def shorten(text: str, width: int) -> str:
+    """`text` in at most `width` characters, cut at a word boundary and marked with '...'
+    (never mid-word, unless a single word is longer than `width`)."""
+    text = " ".join(str(text).split())
+    if len(text) <= width:
+        return text
+    cut = text[:width - 3]
+    if " " in cut and text[width - 3] != " ":
+        cut = cut[:cut.rindex(" ")]
+    return cut.rstrip(" ,;:") + "..."
+
+
+def join_parts(name: str, parts: list, max_len: int = 220) -> str:
+    """'name(part, part, ...)' within `max_len` characters: whole parts only, the ones that do
+    not fit left out and marked by a final '...' (a repr is never cut inside a part)."""
+    text = f"{name}({', '.join(parts)})"
+    if len(text) <= max_len:
+        return text
+    kept = list(parts)
+    while kept and len(f"{name}({', '.join(kept + ['...'])})") > max_len:
+        kept.pop()
+    return f"{name}({', '.join(kept + ['...'])})"
 
 
 def require_xarray():
