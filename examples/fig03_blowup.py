@@ -1,10 +1,18 @@
-"""Fig. 3 — finite-time blow-up above the variability threshold (model 3, tau = 20 % > tau_c).
+r"""
+Fig. 3: finite-time blow-up above the variability threshold
+===========================================================
 
-Equations: paper Eq. varnonlin (see fig02). Parameters: N = 64, alpha = 0.25, tau = 20 %, seed 1,
-paper initial state; Yoshida 4 at dt = 0.01; the run stops when a bond passes the cubic barrier
-(|x_{j+1} - x_j| > 1/alpha), located by root-finding inside the step.
-Shows: E_1..E_4 grow abruptly and the solution blows up (here at t = 2545; the paper's own
-realisation near t = 2000).   Run: python examples/fig03_blowup.py [--out DIR] [--seed S]
+**Equations:** paper Eq. varnonlin (model 3, see Fig. 2).
+
+**Parameters:** :math:`N = 64`, :math:`\alpha = 0.25`, :math:`\tau = 20\,\% > \tau_c`, disorder
+seed 1, the paper's initial state; Yoshida 4 at :math:`dt = 0.01`. The run stops when a bond
+passes the cubic barrier, :math:`|x_{j+1} - x_j| > 1/\alpha`, located by root-finding inside the
+step.
+
+**Shows:** :math:`E_1 \dots E_4` grow abruptly and the solution blows up (here at
+:math:`t = 2545`; the paper's own realisation near :math:`t = 2000`).
+
+**Run:** ``python examples/fig03_blowup.py [--out DIR] [--seed S]``
 """
 import argparse
 
