@@ -14,15 +14,18 @@ Fig. 1: FPUT recurrence in the homogeneous chain
 **Shows:** (a) the envelope of :math:`x_j(t)`; (b) the mode energies :math:`E_1 \dots E_4`:
 almost all the energy returns to mode 1 near :math:`t = 5.6\times 10^4`.
 
-**Run:** ``python examples/fig01_recurrence.py [--out DIR] [--full]``
+**Run:** ``python examples/fig01_recurrence.py [--out DIR] [--format pdf] [--full]``
 """
 import argparse
 
-from fputlab.figures import fig1
+from fputlab.figures import FORMATS, fig1, figure_output
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="figures")
     p.add_argument("--full", action="store_true")
+    p.add_argument("--format", choices=FORMATS, default="png", help="png, or pdf/svg for a paper")
+    p.add_argument("--dpi", type=float, default=110, help="resolution of PNG output")
     a = p.parse_args()
-    print(fig1(a.out, full=a.full))
+    with figure_output(a.format, a.dpi):
+        print(fig1(a.out, full=a.full))

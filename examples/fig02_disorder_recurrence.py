@@ -16,16 +16,19 @@ initial state; Yoshida 4 at :math:`dt = 0.01`.
 **Shows:** the successive :math:`E_1` peaks decay (:math:`\tau = 5\,\%`) and the energy
 localises in mode 1, a q-breather (:math:`\tau = 10\,\%`).
 
-**Run:** ``python examples/fig02_disorder_recurrence.py [--out DIR] [--seed S]``
+**Run:** ``python examples/fig02_disorder_recurrence.py [--out DIR] [--format pdf] [--seed S]``
 """
 import argparse
 
-from fputlab.figures import fig2
+from fputlab.figures import FORMATS, fig2, figure_output
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="figures")
     p.add_argument("--full", action="store_true")
     p.add_argument("--seed", type=int, default=3)
+    p.add_argument("--format", choices=FORMATS, default="png", help="png, or pdf/svg for a paper")
+    p.add_argument("--dpi", type=float, default=110, help="resolution of PNG output")
     a = p.parse_args()
-    print(fig2(a.out, full=a.full, seed=a.seed))
+    with figure_output(a.format, a.dpi):
+        print(fig2(a.out, full=a.full, seed=a.seed))

@@ -12,15 +12,18 @@ step.
 **Shows:** :math:`E_1 \dots E_4` grow abruptly and the solution blows up (here at
 :math:`t = 2545`; the paper's own realisation near :math:`t = 2000`).
 
-**Run:** ``python examples/fig03_blowup.py [--out DIR] [--seed S]``
+**Run:** ``python examples/fig03_blowup.py [--out DIR] [--format pdf] [--seed S]``
 """
 import argparse
 
-from fputlab.figures import fig3
+from fputlab.figures import FORMATS, fig3, figure_output
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="figures")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--format", choices=FORMATS, default="png", help="png, or pdf/svg for a paper")
+    p.add_argument("--dpi", type=float, default=110, help="resolution of PNG output")
     a = p.parse_args()
-    print(fig3(a.out, seed=a.seed))
+    with figure_output(a.format, a.dpi):
+        print(fig3(a.out, seed=a.seed))

@@ -26,7 +26,7 @@ paper's :math:`(4.97, 0.05)`), initial state :math:`Q_1(0) = \sqrt{(N+1)/2}`
 already recur (with a shorter period than the full chain); as :math:`\tau` grows the energy stays
 in mode 1 (localisation).
 
-**Run:** ``python examples/fig04_galerkin.py --out DIR`` (about 10 s on 2 cores)
+**Run:** ``python examples/fig04_galerkin.py --out DIR [--format pdf]`` (about 10 s on 2 cores)
 """
 # sphinx_gallery_thumbnail_path = "figures/fig04_galerkin.png"
 from fputlab.figures_reduction import example_main

@@ -26,7 +26,7 @@ regression), the exact expectation ±1 sd (black), :math:`\tilde B = 0` (dashed)
 :math:`\tau_c`: exact 10.2578 %, :math:`R = 100` fit 10.2036 % (paper 10.0749 %, a different set
 of 100 draws). :math:`\tilde A(0) = 3.62805`, :math:`\tilde B(0) = 0.90728`.
 
-**Run:** ``python examples/fig05_coefficients.py --out DIR`` (about 1 s)
+**Run:** ``python examples/fig05_coefficients.py --out DIR [--format pdf]`` (about 1 s)
 """
 from fputlab.figures_reduction import example_main
 

@@ -24,11 +24,12 @@ envelope of :math:`Q_j` is :math:`2|q_j|`.
 :math:`\tau = 0\,\%` and :math:`10\,\%` (seed 578), :math:`t \le 10^5`, :math:`dt = 0.05`
 (quick; ``--full``: 0.01).
 
-**Shows:** :math:`Q_1` (blue), :math:`Q_2` (red) and :math:`\pm 2|q_1|`, :math:`\pm 2|q_2|`
+**Shows:** :math:`Q_1` (blue), :math:`Q_2` (orange, the colour of mode 2 in every figure) and
+:math:`\pm 2|q_1|`, :math:`\pm 2|q_2|`
 (black): the envelope equations follow the two-mode dynamics; at :math:`\tau = 10\,\%` almost no
 energy reaches mode 2 (:math:`\tilde B = 0.051` is small).
 
-**Run:** ``python examples/fig06_envelopes.py --out DIR`` (about 1 s)
+**Run:** ``python examples/fig06_envelopes.py --out DIR [--format pdf]`` (about 1 s)
 """
 from fputlab.figures_reduction import example_main
 

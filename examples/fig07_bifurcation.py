@@ -29,7 +29,7 @@ saddle, and leaves the well-defined region for :math:`\tilde B > 0`) and
 :math:`E[\tilde A]`, :math:`E[\tilde B]` for :math:`\tau = 0 \dots 20\,\%` and the paper's
 points.
 
-**Run:** ``python examples/fig07_bifurcation.py --out DIR`` (about 1 s)
+**Run:** ``python examples/fig07_bifurcation.py --out DIR [--format pdf]`` (about 1 s)
 """
 from fputlab.figures_reduction import example_main
 

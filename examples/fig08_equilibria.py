@@ -20,7 +20,7 @@ with :math:`\Delta_1` evaluated without the cancellation at small :math:`\tilde 
 :math:`\tilde B \to 0`); white where no equilibria exist
 (:math:`1 + 12\tilde A\tilde B r_1^2 < 0`); the curves of Fig. 7.
 
-**Run:** ``python examples/fig08_equilibria.py --out DIR`` (about 1 s)
+**Run:** ``python examples/fig08_equilibria.py --out DIR [--format pdf]`` (about 1 s)
 """
 from fputlab.figures_reduction import example_main
 

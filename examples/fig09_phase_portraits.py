@@ -25,7 +25,7 @@ well-defined region (white), the equilibria — (a) :math:`(0, 5.0948)` and
 orbit of the initial state (blue; computed from Eq. msfinal2, since :math:`\theta` is undefined at
 :math:`q_2 = 0`).
 
-**Run:** ``python examples/fig09_phase_portraits.py --out DIR`` (about 1 s)
+**Run:** ``python examples/fig09_phase_portraits.py --out DIR [--format pdf]`` (about 1 s)
 """
 from fputlab.figures_reduction import example_main
 

@@ -15,7 +15,7 @@ Fig. 10: phase portrait of the reduced system beyond the threshold
 state (blue) starting at the bottom and escaping to :math:`\Delta \to \infty`: the finite-time
 blow-up of the envelope equations.
 
-**Run:** ``python examples/fig10_phase_portrait_blowup.py --out DIR`` (about 1 s)
+**Run:** ``python examples/fig10_phase_portrait_blowup.py --out DIR [--format pdf]`` (about 1 s)
 """
 from fputlab.figures_reduction import example_main
 

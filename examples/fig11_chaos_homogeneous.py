@@ -19,16 +19,19 @@ with Benettin's renormalisation every unit of time.
 
 **Shows:** every orbit is regular: :math:`\lambda \sim 1/t` and SALI bounded away from zero.
 
-**Run:** ``python examples/fig11_chaos_homogeneous.py [--out DIR] [--full]``
+**Run:** ``python examples/fig11_chaos_homogeneous.py [--out DIR] [--format pdf] [--full]``
 """
 # sphinx_gallery_thumbnail_path = "figures/fig11_chaos_homogeneous.png"
 import argparse
 
-from fputlab.figures import fig11
+from fputlab.figures import FORMATS, fig11, figure_output
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="figures")
     p.add_argument("--full", action="store_true")
+    p.add_argument("--format", choices=FORMATS, default="png", help="png, or pdf/svg for a paper")
+    p.add_argument("--dpi", type=float, default=110, help="resolution of PNG output")
     a = p.parse_args()
-    print(fig11(a.out, full=a.full))
+    with figure_output(a.format, a.dpi):
+        print(fig11(a.out, full=a.full))

@@ -24,12 +24,12 @@ reached. The study is resumable: the quick default goes to :math:`t = 10^5` (abo
 two cores); ``--t-end 1e8`` (or ``--full``) continues the same work directory to the paper's
 length (hours; kill and rerun at will).
 
-**Run:** ``python examples/fig12_14_chaos_disorder.py [--out DIR] [--work-dir D] [--t-end T]``
+**Run:** ``python examples/fig12_14_chaos_disorder.py [--out DIR] [--format pdf] [--work-dir D] [--t-end T]``
 """
 # sphinx_gallery_thumbnail_path = "figures/fig12_chaos_N4_8_16.png"
 import argparse
 
-from fputlab.figures import fig12_13
+from fputlab.figures import FORMATS, fig12_13, figure_output
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -37,6 +37,9 @@ if __name__ == "__main__":
     p.add_argument("--work-dir", help="study directory (default OUT/chaos_study)")
     p.add_argument("--full", action="store_true", help="continue to t = 1e8")
     p.add_argument("--t-end", type=float, help="how far to go in this call (default 1e5)")
+    p.add_argument("--format", choices=FORMATS, default="png", help="png, or pdf/svg for a paper")
+    p.add_argument("--dpi", type=float, default=110, help="resolution of PNG output")
     a = p.parse_args()
-    for path in fig12_13(a.out, full=a.full, work_dir=a.work_dir, t_until=a.t_end):
-        print(path)
+    with figure_output(a.format, a.dpi):
+        for path in fig12_13(a.out, full=a.full, work_dir=a.work_dir, t_until=a.t_end):
+            print(path)

@@ -13,6 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._display import dumps_strict
+from ._figure import add_output_options
 
 
 def _lattice(a):
@@ -304,7 +305,7 @@ def cmd_chaos(a):
 
 
 def cmd_figures(a):
-    from .figures import all_figures
+    from .figures import all_figures, figure_output
     only = set(a.only) if a.only else None
     unknown = sorted(k for k in (only or ()) if not 1 <= k <= 14)
     if unknown:
@@ -312,8 +313,9 @@ def cmd_figures(a):
                          "figures are 1-14)")
     study = {"work_dir": a.work_dir, "t_until": a.t_end, "workers": a.workers,
              "scheduler": a.scheduler}
-    for p in all_figures(a.out_dir, full=a.full, only=only, **study):
-        print(p)
+    with figure_output(a.format, a.dpi):
+        for p in all_figures(a.out_dir, full=a.full, only=only, **study):
+            print(p)
     return 0
 
 
@@ -803,13 +805,14 @@ def _parser_bifurcation(sub, parents):
 
 
 def _parser_figures(sub, parents):
-    s = _sub(sub, "figures", "regenerate the paper's figures as PNGs")
+    s = _sub(sub, "figures", "regenerate the paper's figures (PNG, or PDF/SVG for a paper)")
     s.add_argument("--out-dir", default="figures", metavar="DIR",
                    help="output directory (default figures/)")
     _alias(s, "--out", "--out-dir", "out_dir", metavar="DIR")
     s.add_argument("--full", action="store_true",
                    help="the paper's settings, t = 1e8: very long (default: quick settings)")
     s.add_argument("--only", type=int, nargs="+", help="figure numbers to make (default: all)")
+    add_output_options(s)
     s.add_argument("--work-dir", help="chaos study of Figs. 12-14: one state file per orbit, "
                    "resumed by the next call (default OUT_DIR/chaos_study)")
     s.add_argument("--t-end", type=float, metavar="T", help="how far the chaos study goes in this call "
