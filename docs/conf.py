@@ -104,9 +104,12 @@ def _prerendered_image(app, docname, source):
                     "fig14_chaotic_fraction.png"]
         images = "".join(f"\n.. image:: /figures/{png}\n   :width: 100%\n   :alt: {png}\n"
                          for png in pngs)
+        made = ("drawn from the full study to :math:`t = 10^8` in ``studies/fig12_14`` by "
+                "``fputlab figures --out-dir docs/figures --work-dir studies/fig12_14``"
+                if script.startswith("fig12_14") else
+                "made by ``fputlab figures --out-dir docs/figures`` with the quick defaults")
         note = ("\n.. note:: Not run when these pages are built (it takes longer than the docs "
-                "build may): the figure is the gallery's, made by ``fputlab figures --out-dir "
-                "docs/figures`` with the quick defaults.\n")
+                f"build may): the figure is the gallery's, {made}.\n")
         # after the example's title and introduction, before the code
         text = source[0]
         cut = text.find(".. code-block:: Python")
@@ -118,11 +121,16 @@ def _prerendered_image(app, docname, source):
 # ---- HTML -------------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"
 html_title = f"fputlab {release}"
-html_static_path: list[str] = []
+# pages without siblings need no section navigation: the room goes to their code
+html_sidebars = {"_generated/c_api": [], "cli": [], "index": [], "install": [],
+                 "references": [], "changelog": []}
+html_static_path = ["_static"]
+html_css_files = ["fputlab.css"]
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
     "navbar_align": "left",
+    "header_links_before_dropdown": 4,
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
 }

@@ -1,8 +1,9 @@
 """
-Getting started: recurrence, its breakdown, blow-up and chaos
-=============================================================
+Getting started
+===============
 
-A first session with fputlab, in the order of the paper. The FPUT-α lattice of :math:`N`
+A first session with fputlab, in the order of the paper: the FPUT recurrence, its breakdown
+with disorder, blow-up above the threshold, and chaos. The FPUT-α lattice of :math:`N`
 particles with fixed ends :math:`x_0 = x_{N+1} = 0` obeys
 
 .. math::
