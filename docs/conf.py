@@ -88,6 +88,8 @@ sphinx_gallery_conf = {
     "matplotlib_animations": False,
     "show_memory": False,
     "min_reported_time": 1,
+    # a block ending in ax.set_title(...) shows its figure, not "Text(0.5, 1.0, ...)"
+    "ignore_repr_types": r"matplotlib\.(text|axes|figure|lines|legend)",
 }
 os.environ.setdefault("MPLBACKEND", "Agg")
 
@@ -123,7 +125,7 @@ html_theme = "pydata_sphinx_theme"
 html_title = f"fputlab {release}"
 # pages without siblings need no section navigation: the room goes to their code
 html_sidebars = {"_generated/c_api": [], "cli": [], "index": [], "install": [],
-                 "references": [], "changelog": []}
+                 "references": [], "changelog": [], "auto_tutorial/*": []}
 html_static_path = ["_static"]
 html_css_files = ["fputlab.css"]
 html_theme_options = {

@@ -18,6 +18,7 @@ MODELS = {
     "hamiltonian": ll.MODEL_CODES["hamiltonian"],   # Eqs. (dis1), (Hamilt2mod): v in both couplings
     "nonlinear": ll.MODEL_CODES["nonlinear"],       # Eq. (varnonlin): v in the nonlinear terms only
 }
+#: names of the distributions of the disorder draws z (`draw_disorder`) -> C codes
 DISORDERS = dict(ll.DISORDER_CODES)
 
 
