@@ -34,6 +34,10 @@ import numpy as np
 from ._lowlevel import VERSION
 from ._engine import check_ensemble, process_pool, run_calls  # noqa: F401 (public here too)
 
+__all__ = ["run_sweep", "load_sweep", "run_task", "run_chaos_group", "run_calls", "check_ensemble",
+           "process_pool", "SweepSpec", "Task", "TaskOutcome", "Failure", "TaskFailed", "KINDS",
+           "COLUMNS", "SERIES"]
+
 #: kinds of task
 KINDS = ("blowup", "chaos")
 #: scalar outcome columns of each kind (name -> numpy dtype); "criterion"/"classification" are str

@@ -23,7 +23,7 @@ LAYERS = [
                   "recurrence"}),
     ("files and ensembles", {"io", "ensemble", "study", "thermalization_study"}),
     ("plots and figures", {"plotting", "figures", "figures_reduction", "demo",
-                           "figures_thermalization"}),
+                           "figures_thermalization", "figures_open"}),
     ("interface", {"cli", "__main__", ""}),       # "": the package itself (fputlab/__init__.py)
 ]
 #: modules allowed to import the cffi extension (`lib`, `ffi`)

@@ -45,6 +45,8 @@ from .batch import BATCH_METHODS
 from ..integrate import method_info
 from ..lattice import MODELS, Lattice
 
+__all__ = ["ChaosStudy", "StudySpec", "OrbitState", "advance_orbit", "advance_group", "HORIZONS"]
+
 _FORMAT = "fputlab-chaos-study-1"
 #: the horizons every orbit reaches before any goes further
 HORIZONS = (1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10)
