@@ -507,7 +507,7 @@ def test_unbounded_work_and_big_integers_are_refused():
         chaos_to_file(lat, 10.0, "/nonexistent/x.h5", segment=-1.0)
     for call in (lambda: lat.integrate(1e300), lambda: fputlab.blowup.blowup_time(lat, 1e300),
                  lambda: simulate_to_file(lat, 1e300, "/nonexistent/x.h5")):
-        with pytest.raises(ValueError, match="9e18"):
+        with pytest.raises(ValueError, match="more than 1e\\+13"):
             call()
     with pytest.raises(ValueError, match="dT"):
         fputlab.reduction.envelope_run(3.6, 0.9, 100.0, dT=1e-12)
