@@ -200,7 +200,7 @@ static int create_in(fpl_results *r, const char *path, const fpl_run_info *info)
             return h5_fail(r, "creating the datasets");
     }
     if (label_dimensions(r, 0)) return h5_fail(r, "labelling the dimensions");
-    if (describe_variables(r->file)) return h5_fail(r, "writing the variables' units");
+    if (describe_variables(r->file)) return h5_fail(r, "writing the variables' attributes");
     return H5Fflush(r->file, H5F_SCOPE_LOCAL) < 0 ? h5_fail(r, "flush") : FPL_OK;
 }
 
@@ -636,33 +636,40 @@ long fpl_results_count(const fpl_results *r) { return r ? r->s[S_T].rows + r->nb
  * (1..2N(1+n_dev), for states) are small index datasets made scales of the column axes. In
  * /chaos, chaos/t is the scale of mle, sali, gali. Called once, when the datasets are created
  * (a resumed file has them already). Returns 0, or -1 with HDF5's message in r->h5msg. */
-/* CF-style `long_name` and `units` on every variable there is (xarray.open_dataset shows them,
- * ncdump lists them). fputlab's quantities are in the lattice's dimensionless units: "1". */
-static const char *const var_text[][2] = {
-    {"t", "time"},
-    {"energy", "total energy"},
-    {"mode_energies", "normal-mode energy E_k"},
-    {"states", "state: x and p of the orbit, then of each deviation vector"},
-    {"v", "variability v_j"},
-    {"mode", "normal-mode number k"},
-    {"site", "particle index j"},
-    {"component", "state component"},
-    {"chaos/t", "time"},
-    {"chaos/mle", "finite-time maximum Lyapunov exponent"},
-    {"chaos/sali", "smaller alignment index SALI"},
-    {"chaos/gali", "generalised alignment index GALI"},
+/* CF-style attributes on every variable there is (xarray.open_dataset shows them, ncdump lists
+ * them): a short `long_name` in words (what xarray puts on a plot axis), the formula in
+ * `description`, and `units` only for a dimensional quantity -- fputlab's quantities are in the
+ * lattice's dimensionless units, and CF lets a dimensionless one omit them (xarray would label
+ * its axis "time [1]"). The same text as python/fputlab/_display.py's VARIABLES, so a file read
+ * by xarray and a result's to_xarray() agree (tests/python/test_io.py compares them). */
+static const char *const var_text[][4] = {
+    /* variable, long_name, units ("1": none), description */
+    {"t", "time", "1", "time in units of the inverse linear coupling"},
+    {"energy", "energy", "1", "total energy H (Eq. Hamilt; not conserved for model 3)"},
+    {"mode_energies", "mode energy", "1",
+     "normal-mode energy E_k = (P_k^2 + omega_k^2 Q_k^2) / 2"},
+    {"states", "state", "1", "y = [x_1..x_N, p_1..p_N] (orbit, then deviation vectors)"},
+    {"v", "variability", "1", "variability v_j = 1 + (tau/300) z_j"},
+    {"mode", "mode", "1", "normal-mode number k"},
+    {"site", "particle", "1", "particle index j"},
+    {"component", "component", "1", "state component (x_1..x_N, p_1..p_N)"},
+    {"chaos/t", "time", "1", "times of the chaos-indicator samples"},
+    {"chaos/mle", "Lyapunov exponent", "1/time", "finite-time maximum Lyapunov exponent lambda(t)"},
+    {"chaos/sali", "SALI", "1", "smaller alignment index SALI(t)"},
+    {"chaos/gali", "GALI", "1", "generalised alignment index GALI_k(t)"},
 };
 
 static int describe_variables(hid_t file)
 {
     int bad = 0;
     for (size_t i = 0; i < sizeof var_text / sizeof *var_text && !bad; i++) {
-        const char *name = var_text[i][0];
+        const char *name = var_text[i][0], *units = var_text[i][2];
         if (strchr(name, '/') && H5Lexists(file, "chaos", H5P_DEFAULT) <= 0) continue;
         if (H5Lexists(file, name, H5P_DEFAULT) <= 0) continue;
         hid_t d = H5Dopen2(file, name, H5P_DEFAULT);
         bad = d < 0 || fpl_h5_set_string(d, "long_name", var_text[i][1]) ||
-              fpl_h5_set_string(d, "units", "1");
+              fpl_h5_set_string(d, "description", var_text[i][3]) ||
+              (strcmp(units, "1") != 0 && fpl_h5_set_string(d, "units", units));
         if (d >= 0) H5Dclose(d);
     }
     return bad ? -1 : 0;

@@ -1,20 +1,36 @@
-"""ABA(8,6,4) on two splits: why "aba864-harmonic" gains accuracy as the nonlinearity shrinks.
+r"""
+ABA(8,6,4) on two splits: accuracy as the nonlinearity shrinks
+==============================================================
 
-Equations: the homogeneous FPUT-alpha chain, fixed ends,
-    H = sum p_j^2/2 + sum_b [ R_b^2/2 + alpha R_b^3/3 ],   R_b = x_b - x_{b-1}.
-"aba864" splits H = T(p) + V(x): the kick carries the whole force, which is not small, so the
-error is O(h^4) at every amplitude. "aba864-harmonic" splits H = H_harmonic + eps H_anharmonic:
-the harmonic chain is integrated exactly (normal modes turned by w_k h), the kick carries only
-alpha R^2, and the error is O(eps h^8 + eps^2 h^6 + eps^3 h^4) with eps ~ alpha * amplitude.
-Parameters: N = 8, alpha = 0.25, x_j(0) = A sin(pi j/(N+1)), p = 0, A = 3, 0.3, 0.1;
-t = 100; reference srkn14a6 at dt = 0.01.
-Shows: the final-state error of both schemes for dt = 2, 1, 1/2, 1/4 and the observed orders.
-aba864: order 4 at every A. aba864-harmonic: orders ~6 over the large steps once A is small
-(where h^2 >> eps; it returns to 4 as h^2 approaches eps), and errors 15x (A = 3) to
-1e4-1e5x (A = 0.1) smaller, the gap growing as A shrinks (measured at dt = 1: 7.9e-3 vs 5.4e-4
-at A = 3; 1.3e-6 vs 3.6e-11 at A = 0.1). The exact harmonic part also removes the step limit
-set by the highest frequency.
-Run: python examples/harmonic_split_accuracy.py [--plot FILE]
+**Equations:** the homogeneous FPUT-α chain, fixed ends,
+
+.. math::
+
+   H = \sum_j \frac{p_j^2}{2} + \sum_b \left[\frac{R_b^2}{2} + \alpha\frac{R_b^3}{3}\right],
+   \qquad R_b = x_b - x_{b-1}.
+
+``"aba864"`` splits :math:`H = T(p) + V(x)`: the kick carries the whole force, which is not
+small, so the error is :math:`O(h^4)` at every amplitude. ``"aba864-harmonic"`` splits
+:math:`H = H_\mathrm{harmonic} + \varepsilon H_\mathrm{anharmonic}`: the harmonic chain is
+integrated exactly (normal modes turned by :math:`\omega_k h`), the kick carries only
+:math:`\alpha R^2`, and the error is
+:math:`O(\varepsilon h^8 + \varepsilon^2 h^6 + \varepsilon^3 h^4)` with
+:math:`\varepsilon \sim \alpha \times` amplitude.
+
+**Parameters:** :math:`N = 8`, :math:`\alpha = 0.25`, :math:`x_j(0) = A \sin(\pi j/(N+1))`,
+:math:`p = 0`, :math:`A = 3, 0.3, 0.1`; :math:`t = 100`; reference srkn14a6 at
+:math:`dt = 0.01`.
+
+**Shows:** the final-state error of both schemes for :math:`dt = 2, 1, 1/2, 1/4` and the observed
+orders. aba864: order 4 at every :math:`A`. aba864-harmonic: orders ~6 over the large steps once
+:math:`A` is small (where :math:`h^2 \gg \varepsilon`; it returns to 4 as :math:`h^2` approaches
+:math:`\varepsilon`), and errors 15× (:math:`A = 3`) to :math:`10^4`–:math:`10^5`×
+(:math:`A = 0.1`) smaller, the gap growing as :math:`A` shrinks (measured at :math:`dt = 1`:
+:math:`7.9\times 10^{-3}` vs :math:`5.4\times 10^{-4}` at :math:`A = 3`;
+:math:`1.3\times 10^{-6}` vs :math:`3.6\times 10^{-11}` at :math:`A = 0.1`). The exact harmonic
+part also removes the step limit set by the highest frequency.
+
+**Run:** ``python examples/harmonic_split_accuracy.py [--plot FILE]``
 """
 import argparse
 

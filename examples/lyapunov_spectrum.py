@@ -1,21 +1,32 @@
-"""The full Lyapunov spectrum, covariant Lyapunov vectors and MEGNO of FPUT-beta chains.
+r"""
+Lyapunov spectrum, covariant Lyapunov vectors and MEGNO of FPUT-β chains
+========================================================================
 
-Equations: H = sum_j p_j^2/(2 m_j) + sum_b [ R_b^2/2 + beta R_b^4/4 ], fixed ends; model 1
-("homogeneous", m_j = 1, R_b = x_b - x_{b-1}) and model 2 ("hamiltonian", masses m_j = v_j and
-R_b = v_b x_b - v_{b-1} x_{b-1}, v_j Gaussian around 1 with tau percent spread), alpha = 0.
-The deviation vectors follow the tangent map of srkn14a6 (a symplectic scheme) and are
-re-orthonormalised by a Householder QR every time unit: lambda_i = (1/t) sum ln R_ii
-(fputlab.chaos.lyapunov_spectrum). CLVs by Ginelli's backward iteration
-(fputlab.chaos.covariant_lyapunov_vectors); MEGNO <Y>(t) from fputlab.chaos.lyapunov.
-Parameters: beta = 1, energy density E/N = 1 (random momenta, x = 0, seed 1), N = 8, 16, 32,
-t = --t-end (default 2000) after a transient of 100; CLVs of N = 32, ordered and tau = 30 %,
+**Equations:** fixed ends, α = 0,
+
+.. math::
+
+   H = \sum_j \frac{p_j^2}{2 m_j} + \sum_b \left[\frac{R_b^2}{2} + \beta\frac{R_b^4}{4}\right],
+
+model 1 (``"homogeneous"``, :math:`m_j = 1`, :math:`R_b = x_b - x_{b-1}`) and model 2
+(``"hamiltonian"``, masses :math:`m_j = v_j`, :math:`R_b = v_b x_b - v_{b-1} x_{b-1}`,
+:math:`v_j` Gaussian around 1 with τ percent spread). The deviation vectors follow the tangent
+map of srkn14a6 (a symplectic scheme) and are re-orthonormalised by a Householder QR every time
+unit: :math:`\lambda_i = (1/t) \sum \ln R_{ii}` (``fputlab.chaos.lyapunov_spectrum``). CLVs by
+Ginelli's backward iteration (``fputlab.chaos.covariant_lyapunov_vectors``); MEGNO
+:math:`\langle Y\rangle(t)` from ``fputlab.chaos.lyapunov``.
+
+**Parameters:** β = 1, energy density E/N = 1 (random momenta, x = 0, seed 1), N = 8, 16, 32,
+t = ``--t-end`` (default 2000) after a transient of 100; CLVs of N = 32, ordered and τ = 30 %,
 over a window of 20 with transients of 100; MEGNO of N = 2 (E/N = 0.05, regular) and of N = 8.
-Shows: the spectra of the three sizes fall on one curve against i/(2N) (the thermodynamic
-limit); they pair, lambda_i + lambda_{2N+1-i} = 0, and sum to zero (printed: the largest pair
-sum and the total); the Kolmogorov-Sinai entropy and the Kaplan-Yorke dimension per N; the
-participation number 1/IPR of the CLVs (how many sites they occupy), for the ordered against
-the disordered chain; MEGNO -> 2 for the regular orbit, ~ lambda t/2 for the chaotic one.
-Run: python examples/lyapunov_spectrum.py [--t-end 2000] [--plot FILE]
+
+**Shows:** the spectra of the three sizes fall on one curve against i/(2N) (the thermodynamic
+limit); they pair, :math:`\lambda_i + \lambda_{2N+1-i} = 0`, and sum to zero (printed: the
+largest pair sum and the total); the Kolmogorov-Sinai entropy and the Kaplan-Yorke dimension per
+N; the participation number 1/IPR of the CLVs (how many sites they occupy), for the ordered
+against the disordered chain; MEGNO → 2 for the regular orbit, ~ λt/2 for the chaotic one.
+
+**Run:** ``python examples/lyapunov_spectrum.py [--t-end 2000] [--plot FILE]``
 """
 import argparse
 

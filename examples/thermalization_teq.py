@@ -1,17 +1,29 @@
-"""T_eq(eps) — the equipartition time of random-phase ensembles against the nonlinearity.
+r"""
+T_eq(ε): the equipartition time of random-phase ensembles against the nonlinearity
+==================================================================================
 
-Equations: alpha-FPUT H = sum_j p_j^2/2 + (x_{j+1} - x_j)^2/2 + alpha (x_{j+1} - x_j)^3/3 on a
-ring of N particles (beta-FPUT: beta r^4/4 instead of the cubic term); waves
-a_k = (omega_k X_k + i P_k)/sqrt(2 omega_k), e_k = omega_k |a_k|^2, k = 1..N-1; f_k = M e_k/sum e;
-the information entropy S = sum f_k ln f_k of the ensemble-averaged spectrum; eta(t) = S(t)/S(0);
-T_eq = the first time eta <= 0.1, with a 90 % bootstrap interval over the orbits; the fit
-T_eq ~ eps^-a with a bootstrap interval of a.
-Parameters: the built-in studies of fputlab.thermalization_study (docs/thermalization.md):
-alpha = 1, N = 32, band +-1..+-4, eps = alpha sqrt(E/N) = 0.06..0.11, 16 orbits (alpha);
-beta = 1, eps = beta E/N = 0.02..1 (beta). Shows: the measured exponent next to Onorato et
-al.'s 8 (alpha) and Lvov & Onorato's 4 -> 2 (beta), and eta(t) of every eps.
-Run: python examples/thermalization_teq.py [--summaries studies/thermalization] [--out PNG]
-(draws from the committed study summaries; `fputlab thermalization alpha --work-dir D`
+**Equations:** α-FPUT on a ring of N particles (β-FPUT: :math:`\beta r^4/4` instead of the
+cubic term),
+
+.. math::
+
+   H = \sum_j \frac{p_j^2}{2} + \frac{(x_{j+1} - x_j)^2}{2} + \alpha\frac{(x_{j+1} - x_j)^3}{3};
+
+waves :math:`a_k = (\omega_k X_k + i P_k)/\sqrt{2 \omega_k}`, :math:`e_k = \omega_k |a_k|^2`,
+k = 1..N-1; :math:`f_k = M e_k/\sum e`; the information entropy :math:`S = \sum f_k \ln f_k` of
+the ensemble-averaged spectrum; :math:`\eta(t) = S(t)/S(0)`; T_eq = the first time
+:math:`\eta \le 0.1`, with a 90 % bootstrap interval over the orbits; the fit
+:math:`T_{eq} \sim \varepsilon^{-a}` with a bootstrap interval of a.
+
+**Parameters:** the built-in studies of ``fputlab.thermalization_study``
+(docs/thermalization.md): α = 1, N = 32, band ±1..±4, :math:`\varepsilon = \alpha\sqrt{E/N}`
+= 0.06..0.11, 16 orbits (alpha); β = 1, :math:`\varepsilon = \beta E/N` = 0.02..1 (beta).
+
+**Shows:** the measured exponent next to Onorato et al.'s 8 (α) and Lvov & Onorato's 4 → 2 (β),
+and η(t) of every ε.
+
+**Run:** ``python examples/thermalization_teq.py [--summaries studies/thermalization] [--out PNG]``
+(draws from the committed study summaries; ``fputlab thermalization alpha --work-dir D``
 recomputes one, resumable, in about 10 CPU-minutes.)
 """
 import argparse

@@ -107,8 +107,9 @@ def render(headers: list[Path]) -> str:
             names = declared_names(code)
             if not names:
                 continue
-            heading = ", ".join(f"``{n}``" for n in names)
-            out += [".. rubric:: " + heading, ""]
+            # the names as an ordinary paragraph of inline literals (a rubric of literals is
+            # drawn as a stack of full-width boxes by the theme)
+            out += [", ".join(f"``{n}``" for n in names), ""]
             out += [".. index:: " + "; ".join(names[:1]), ""] if names else []
             body = (comment + "\n" if comment else "") + code
             out += [".. code-block:: c", "", literal(body), ""]

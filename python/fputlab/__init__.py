@@ -4,7 +4,12 @@
     >>> lat = fputlab.Lattice(N=64, alpha=0.25)              # homogeneous FPUT-alpha
     >>> run = lat.integrate(7e4, sample_every=10.0)           # Yoshida 4, dt = 0.01
     >>> run.mode_energies[:, :4]                              # E_1..E_4 (paper Fig. 1b)
+
+The lattice, integration and modes are imported with the package; the other submodules
+(``fputlab.chaos``, ``fputlab.plotting``, ...) load on first use (PEP 562, as in scipy), so
+``import fputlab`` stays quick and needs neither matplotlib nor h5py.
 """
+import importlib
 import os as _os
 import sys as _sys
 
@@ -22,13 +27,9 @@ try:
     from ._errors import FputlabError, IntegrationError, Interrupted
     from ._lowlevel import VERSION as __version__
     from .integrate import Integrator, Run, integrate, iter_samples, method_info, methods
-    from . import analysis, blowup, chaos
     from .lattice import DISORDERS, MODELS, Lattice, draw_disorder
     from .modes import mode_matrix, omega
     from .initial_states import mode_excitation, random_phases, thermal
-    from . import reduction, thermalization
-    from . import io
-    from .io import load
 except KeyboardInterrupt:
     # Ctrl-C while the command is still importing (the first ~0.3 s) is the command's
     # Ctrl-C: one line and 130, as once it runs, not a traceback. A program importing
@@ -38,8 +39,29 @@ except KeyboardInterrupt:
     print("fputlab: interrupted", file=_sys.stderr)
     raise SystemExit(130) from None
 
+#: the public submodules, imported on first attribute access
+_SUBMODULES = ("analysis", "blowup", "chaos", "cli", "engine", "ensemble", "figures",
+               "figures_open", "figures_reduction", "figures_thermalization", "initial_states",
+               "io", "lattice", "modes", "plotting", "recurrence", "reduction",
+               "thermalization", "thermalization_study")
+#: deprecated aliases (fputlab.chaos.batch, fputlab.chaos.study): still reachable, not listed
+_DEPRECATED = ("chaos_batch", "study")
+
 __all__ = ["Lattice", "draw_disorder", "integrate", "iter_samples", "Integrator", "methods",
            "method_info", "Run", "omega", "mode_matrix", "mode_excitation", "random_phases",
            "thermal",
            "MODELS", "DISORDERS", "load", "FputlabError", "IntegrationError", "Interrupted",
            "__version__"]
+
+
+def __getattr__(name: str):
+    if name in _SUBMODULES or name in _DEPRECATED:
+        return importlib.import_module(f".{name}", __name__)
+    if name == "load":          # lives in fputlab.io, which needs h5py: loaded when asked for
+        from .io import load
+        return load
+    raise AttributeError(f"module 'fputlab' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(__all__) | set(_SUBMODULES))

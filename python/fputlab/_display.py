@@ -9,29 +9,31 @@ import math
 
 import numpy as np
 
-#: Units and long names of the quantities in results (dimensionless units of the paper: unit
-#: masses and linear spring constant; see docs/conventions.md).
+#: Long names, units and descriptions of the quantities in results (dimensionless units of the
+#: paper: unit masses and linear spring constant; see docs/conventions.md). The long name is
+#: what xarray puts on a plot axis, so it is short and in words; the formula goes in the
+#: description. Units "1" mark a dimensionless quantity.
 VARIABLES = {
-    "t": ("time", "1"),
-    "t_chaos": ("time of the chaos-indicator samples", "1"),
-    "energy": ("total energy H (Eq. Hamilt; not conserved for model 3)", "1"),
-    "relative_energy_error": ("relative energy error |H(t) - H(0)| / |H(0)|", "1"),
-    "mode_energies": ("normal-mode energy E_k = (P_k^2 + omega_k^2 Q_k^2) / 2", "1"),
-    "states": ("state y = [x_1..x_N, p_1..p_N] (orbit, then deviation vectors)", "1"),
-    "x": ("displacement x_j", "1"),
-    "p": ("canonical momentum p_j", "1"),
-    "v": ("variability v_j", "1"),
-    "mle": ("finite-time maximum Lyapunov exponent lambda(t)", "1/time"),
-    "sali": ("smaller alignment index SALI(t)", "1"),
-    "gali": ("generalised alignment index GALI_k(t)", "1"),
-    "megno": ("MEGNO <Y>(t) (Cincotta & Simo 2000)", "1"),
-    "exponents": ("Lyapunov exponents lambda_i (QR order)", "1/time"),
-    "history": ("finite-time Lyapunov exponents lambda_i(t)", "1/time"),
-    "exponent": ("exponent index i", "1"),
-    "mode": ("normal-mode number k", "1"),
-    "site": ("particle index j", "1"),
-    "vector": ("0: the orbit, 1..k: deviation vectors", "1"),
-    "component": ("state component (x_1..x_N, p_1..p_N)", "1"),
+    "t": ("time", "1", "time in units of the inverse linear coupling"),
+    "t_chaos": ("time", "1", "times of the chaos-indicator samples"),
+    "energy": ("energy", "1", "total energy H (Eq. Hamilt; not conserved for model 3)"),
+    "relative_energy_error": ("relative energy error", "1", "|H(t) - H(0)| / |H(0)|"),
+    "mode_energies": ("mode energy", "1", "normal-mode energy E_k = (P_k^2 + omega_k^2 Q_k^2) / 2"),
+    "states": ("state", "1", "y = [x_1..x_N, p_1..p_N] (orbit, then deviation vectors)"),
+    "x": ("displacement", "1", "displacement x_j"),
+    "p": ("momentum", "1", "canonical momentum p_j"),
+    "v": ("variability", "1", "variability v_j = 1 + (tau/300) z_j"),
+    "mle": ("Lyapunov exponent", "1/time", "finite-time maximum Lyapunov exponent lambda(t)"),
+    "sali": ("SALI", "1", "smaller alignment index SALI(t)"),
+    "gali": ("GALI", "1", "generalised alignment index GALI_k(t)"),
+    "megno": ("MEGNO", "1", "MEGNO <Y>(t) (Cincotta & Simo 2000)"),
+    "exponents": ("Lyapunov exponent", "1/time", "Lyapunov exponents lambda_i (QR order)"),
+    "history": ("Lyapunov exponent", "1/time", "finite-time Lyapunov exponents lambda_i(t)"),
+    "exponent": ("exponent index", "1", "exponent index i"),
+    "mode": ("mode", "1", "normal-mode number k"),
+    "site": ("particle", "1", "particle index j"),
+    "vector": ("vector", "1", "0: the orbit, 1..k: deviation vectors"),
+    "component": ("component", "1", "state component (x_1..x_N, p_1..p_N)"),
 }
 
 
@@ -78,7 +80,7 @@ def dataclass_repr(obj, lead=(), skip=(), max_len: int = 220) -> str:
             if items:
                 rest.append(f"{f.name}={{{', '.join(items)}}}")
         elif isinstance(value, str):
-            texts.append(f"{f.name}={value[:60] + '...' if len(value) > 60 else value!r}")
+            texts.append(f"{f.name}={shorten(value, 60)!r}")
         elif isinstance(value, (bool, np.bool_)):
             flags.append(f"{f.name}={fmt(value)}")
         elif isinstance(value, (int, float, np.generic)):
@@ -88,9 +90,31 @@ def dataclass_repr(obj, lead=(), skip=(), max_len: int = 220) -> str:
         else:
             text = repr(value)
             rest.append(f"{f.name}={text if len(text) <= 60 else type(value).__name__}")
-    parts = list(lead) + flags + numbers + texts + rest
-    text = f"{type(obj).__name__}({', '.join(parts)})"
-    return text if len(text) <= max_len else text[:max_len - 4] + "...)"
+    return join_parts(type(obj).__name__, list(lead) + flags + numbers + texts + rest, max_len)
+
+
+def shorten(text: str, width: int) -> str:
+    """`text` in at most `width` characters, cut at a word boundary and marked with '...'
+    (never mid-word, unless a single word is longer than `width`)."""
+    text = " ".join(str(text).split())
+    if len(text) <= width:
+        return text
+    cut = text[:width - 3]
+    if " " in cut and text[width - 3] != " ":
+        cut = cut[:cut.rindex(" ")]
+    return cut.rstrip(" ,;:") + "..."
+
+
+def join_parts(name: str, parts: list, max_len: int = 220) -> str:
+    """'name(part, part, ...)' within `max_len` characters: whole parts only, the ones that do
+    not fit left out and marked by a final '...' (a repr is never cut inside a part)."""
+    text = f"{name}({', '.join(parts)})"
+    if len(text) <= max_len:
+        return text
+    kept = list(parts)
+    while kept and len(f"{name}({', '.join(kept + ['...'])})") > max_len:
+        kept.pop()
+    return f"{name}({', '.join(kept + ['...'])})"
 
 
 def require_xarray():
@@ -104,9 +128,14 @@ def require_xarray():
 
 
 def variable(dims, data, name: str, **attrs):
-    """(dims, data, attrs) for an xarray Dataset, with long_name and units from VARIABLES."""
-    long_name, units = VARIABLES.get(name, (name, "1"))
-    return dims, data, {"long_name": long_name, "units": units, **attrs}
+    """(dims, data, attrs) for an xarray Dataset: long_name and description from VARIABLES, and
+    units for dimensional quantities only (CF lets a dimensionless one omit them; xarray would
+    label its axes "time [1]")."""
+    long_name, units, description = VARIABLES.get(name, (name, "1", name))
+    meta = {"long_name": long_name, "description": description}
+    if units != "1":
+        meta["units"] = units
+    return dims, data, {**meta, **attrs}
 
 
 def scalar_attrs(obj, skip=()) -> dict:

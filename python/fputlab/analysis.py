@@ -14,6 +14,9 @@ import numpy as np
 
 from ._arrays import as_float_array
 
+__all__ = ["recurrences", "energy_share", "spectral_entropy", "effective_modes",
+           "normalised_entropy"]
+
 
 def _energies(run_or_energies):
     ek = getattr(run_or_energies, "mode_energies", run_or_energies)

@@ -20,6 +20,9 @@ from .integrate import CRITERIA, Integrator, check_steps, method_info  # noqa: F
 from .lattice import Lattice
 from .reduction import realisation_quadratics
 
+__all__ = ["blowup_time", "blowup_sweep", "Blowup", "BlowupRecord", "default_criteria",
+           "realisation_tau_c", "CRITERIA"]
+
 def default_criteria(lattice: Lattice) -> list[tuple]:
     """The bond potential's barrier: a bond stretched beyond its nearer top (`Lattice.barrier`,
     the nearest non-zero root of V': 1/alpha for FPUT-alpha) has escaped; a potential without a

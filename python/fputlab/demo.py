@@ -12,6 +12,8 @@ import time
 
 import numpy as np
 
+__all__ = ["run_fig1", "summarise", "main"]
+
 
 def run_fig1(N: int = 64, alpha: float = 0.25, t_end: float = 8e4, dt: float = 0.01,
              sample_every: float = 5.0):

@@ -171,7 +171,7 @@ class StudyResult:
         return self.dataset
 
     def summary(self) -> list[dict]:
-        """Rows {grid coords..., n, <class or outcome> counts, fraction_*, *_low, *_high}."""
+        """Rows ``{grid coords..., n, <class or outcome> counts, fraction_*, *_low, *_high}``."""
         return get_kind(self.kind).summary(self.dataset)
 
     def __repr__(self) -> str:

@@ -36,6 +36,10 @@ from ._engine import check_ensemble, process_pool, run_calls  # noqa: F401 (publ
 from ._validate import _finite_real, _path, _renamed, _seed
 from .io.atomic import write_h5_atomic
 
+__all__ = ["run_sweep", "load_sweep", "run_task", "run_chaos_group", "run_calls", "check_ensemble",
+           "process_pool", "SweepSpec", "Task", "TaskOutcome", "Failure", "TaskFailed", "KINDS",
+           "COLUMNS", "SERIES"]
+
 #: kinds of task
 KINDS = ("blowup", "chaos")
 #: scalar outcome columns of each kind (name -> numpy dtype); "criterion"/"classification" are str

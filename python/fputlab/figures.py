@@ -9,6 +9,11 @@ import os
 
 import numpy as np
 
+from ._figure import FORMATS, figure_output, sci
+
+__all__ = ["fig1", "fig2", "fig3", "fig11", "fig12", "fig13", "fig14", "fig12_13", "chaos_study",
+           "all_figures", "figure_output", "FORMATS", "QUICK_STUDY_T"]
+
 
 def _plt():
     import matplotlib
@@ -164,7 +169,7 @@ def fig11(out_dir=".", *, full: bool = False, t_end: float | None = None):
     labels = [f"N = {N}" for N in Ns]
     plot_mle(res, a, labels=labels)
     plot_sali(res, b, labels=labels, legend=None)
-    a.set_title(f"(a) homogeneous chain, Yoshida 4, dt = 0.01, t = {t_end:.0e}", loc="left",
+    a.set_title(f"(a) homogeneous chain, Yoshida 4, dt = 0.01, t = {sci(t_end)}", loc="left",
                 fontsize=10)
     b.set_title("(b) SALI", loc="left", fontsize=10)
     return save(fig, target(out_dir, "fig11_chaos_homogeneous.png"),
@@ -197,45 +202,83 @@ def chaos_study(work_dir=None, *, full=False, t_until=None, workers=None, schedu
 
 
 def _reached_label(study):
-    t = study.reached()
-    return f"t = {t:.0e}".replace("e+0", "e").replace("e+", "e")
+    return f"t = {sci(study.reached())}"
+
+
+#: the sequential palette of the realisations in Figs. 12-13 (dark to light by disorder seed;
+#: its light end is cut off, where thin lines would vanish on white)
+REALISATION_CMAP = "viridis"
 
 
 def _study_panels(study, Ns, name, letters, out_dir):
-    """Rows of (lambda(t) with the 1/t guide, SALI(t)) for each N: one colour per realisation,
-    every orbit drawn up to the time all of them have reached."""
+    """Rows of (lambda(t) with the 1/t guide, SALI(t)) for each N: one colour per realisation
+    (a sequential palette by disorder seed, with a colour bar), every orbit drawn up to the time
+    all of them have reached; an orbit that blew up ends in a marker, one that turned chaotic
+    stops at the SALI threshold."""
+    import matplotlib as mpl
+    from matplotlib.lines import Line2D
     from ._figure import save, target
     from .plotting import plot_mle, plot_sali
     plt = _plt()
     res = study.results()
-    fig, axes = plt.subplots(len(Ns), 2, figsize=(11, 3.3 * len(Ns)), constrained_layout=True,
-                             squeeze=False)
+    fig, axes = plt.subplots(len(Ns), 2, figsize=(11, 3.3 * len(Ns) + 0.6),
+                             constrained_layout=True, squeeze=False)
     t_top = study.reached()
     R = study.spec.realisations
-    cmap = plt.get_cmap("turbo")
+    threshold = study.spec.sali_threshold
+    seeds = sorted({int((r.params or {}).get("seed", i + 1)) for N in Ns
+                    for i, r in enumerate(res[N]) if r is not None} or {1})
+    norm = mpl.colors.Normalize(vmin=min(seeds), vmax=max(max(seeds), min(seeds) + 1))
+    cmap = plt.get_cmap(REALISATION_CMAP)
+
+    def color(seed):
+        return cmap(0.9 * norm(seed))
+
     numbers = {"t": t_top}
+    sali_lo = threshold
     for row, N in enumerate(Ns):
         a, b = axes[row]
-        shown = []
-        for r in res[N]:
+        shown, colors, ends = [], [], []
+        for i, r in enumerate(res[N]):
             if r is None or not r.t.size:
                 continue
             k = r.t <= t_top * (1 + 1e-12)      # orbits ahead of the others: up to the same t
+            if not k.any():
+                continue
+            c = color(int((r.params or {}).get("seed", i + 1)))
             shown.append({"t": r.t[k], "mle": r.mle[k], "sali": np.maximum(r.sali[k], 1e-17)})
-        colors = [cmap(i / max(len(shown) - 1, 1)) for i in range(len(shown))]
-        plot_mle(shown, a, colors=colors, lw=0.7, legend="lower left")
-        plot_sali(shown, b, colors=colors, lw=0.7, threshold=study.spec.sali_threshold,
-                  legend=None)
+            colors.append(c)
+            if r.blew_up and r.t[k][-1] >= r.t[-1]:
+                ends.append((r.t[k][-1], abs(r.mle[k][-1]), r.sali[k][-1], c))
+            sali_lo = min(sali_lo, float(np.min(shown[-1]["sali"])))
+        plot_mle(shown, a, colors=colors, lw=0.7, legend=None)
+        plot_sali(shown, b, colors=colors, lw=0.7, threshold=threshold, legend=None)
+        for t_end, mle, sali, c in ends:
+            a.plot(t_end, mle, "X", ms=7, mfc=c, mec="k", mew=0.6, zorder=5)
+            b.plot(t_end, sali, "X", ms=7, mfc=c, mec="k", mew=0.6, zorder=5)
         counts = study.classes(t_top)[N]
         numbers[f"N{N}"] = counts
         summary = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
-        a.set_title(f"({letters[2 * row]}) N = {N}   [at t = {t_top:.0e}: {summary}]",
+        a.set_title(f"({letters[2 * row]}) N = {N}: at t = {sci(t_top)}, {summary}",
                     fontsize=10, loc="left")
         b.set_title(f"({letters[2 * row + 1]}) N = {N}", fontsize=10, loc="left")
-        b.set_ylim(1e-17, 3)
+        handles = [Line2D([], [], color="k", ls="--", lw=1.0, label="$1/t$ (regular orbits)")]
+        if ends:
+            handles.append(Line2D([], [], ls="none", marker="X", ms=7, mfc="0.6", mec="k",
+                                  label=f"blow-up: the orbit ends ({len(ends)})"))
+        a.legend(handles=handles, loc="lower left", frameon=False, fontsize=8)
+        b.legend(handles=[Line2D([], [], color="gray", ls=":", lw=0.8,
+                                 label=f"chaos threshold SALI = {sci(threshold)}")]
+                 + handles[1:], loc="lower left", frameon=False, fontsize=8)
+    for a, b in axes:
+        # the SALI axis fits the data: chaotic orbits stop just below the threshold
+        b.set_ylim(sali_lo / 5.0, 3.0)
+    fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap=mpl.colors.ListedColormap(
+                     cmap(np.linspace(0, 0.9, 256)))), ax=axes, location="right", shrink=0.8,
+                 label="disorder seed (realisation)")
     s = study.spec
-    fig.suptitle(f"model 3, τ = {s.tau:g} %, {R} realisations, {s.method} dt = {s.dt:g}, "
-                 f"{_reached_label(study)}")
+    fig.suptitle(f"Disordered chain (nonlinear couplings), τ = {s.tau:g} %, {R} realisations, "
+                 f"{s.method} at dt = {s.dt:g}, {_reached_label(study)}")
     return save(fig, target(out_dir, name), numbers)
 
 
@@ -291,7 +334,8 @@ def fig14(out_dir=".", *, full: bool = False, study=None, **study_options):
     ax.set_xlabel("N")
     ax.set_ylabel(f"% of {R} realisations")
     ax.legend(frameon=False)
-    ax.set_title(f"model 3, τ = {study.spec.tau:g} %, {_reached_label(study)}")
+    ax.set_title(f"Disordered chain (nonlinear couplings), τ = {study.spec.tau:g} %, "
+                 f"{_reached_label(study)}", fontsize=10)
     return save(fig, target(out_dir, "fig14_chaotic_fraction.png"),
                 {"t": t, "N": Ns, "percent_chaotic": pct("chaotic"),
                  "percent_blowup": pct("blow-up"), "classes": counts})

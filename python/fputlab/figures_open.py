@@ -19,6 +19,10 @@ from .chaos.outcomes import (OrbitOutcomes, cumulative_incidence, monotonicity,
                              outcome_table, outcomes_from_dataset)
 from .recurrence import recurrence_quality, recurrence_time
 
+__all__ = ["open_questions", "fig_monotone", "fig_threshold", "fig_models", "fig_recurrence",
+           "fig_phase", "plot_fraction_vs_N", "plot_survival", "threshold_tau", "chaos_studies",
+           "recurrence_table"]
+
 _CLASS_COLOURS = {"chaotic": "#c0392b", "regular": "#2471a3", "blow-up": "#7f8c8d",
                   "undecided": "#f5b041"}
 

@@ -16,9 +16,12 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from . import reduction as red
-from ._figure import Figure, target
-from .plotting import plot_bifurcation, plot_bifurcation_curves, plot_two_mode
+from ._figure import Figure, add_output_options, figure_output, save, target
+from .plotting import mode_color, plot_bifurcation, plot_bifurcation_curves, plot_two_mode
 from .lattice import Lattice
+
+__all__ = ["fig4", "fig5", "fig6", "fig7", "fig8", "fig9", "fig10", "FIGURES", "PAPER_LIKE_SEED",
+           "PAPER_POINTS", "paper_like_seed", "example_main"]
 
 PAPER_LIKE_SEED = 578
 #: (A~, B~) the paper quotes for Figs. 9(a), 9(b) and 10
@@ -41,13 +44,12 @@ def _figure(numbers: dict):
 
 
 def _save(fig, out) -> str:
+    """Write and close `fig` (the house style, format and dpi of `fputlab._figure.save`)."""
     out = os.fspath(out)
     d = os.path.dirname(out)
     if d:
         os.makedirs(d, exist_ok=True)
-    fig.savefig(out, dpi=110)
-    _pyplot().close(fig)
-    return out
+    return os.fspath(save(fig, out))
 
 
 def paper_like_seed(tau: float = 10.0, target=(4.97, 0.05), n_seeds: int = 1000) -> int:
@@ -89,12 +91,11 @@ def fig4(out_dir=".", *, full: bool = False, N: int = 64, taus=(0.0, 5.0, 10.0),
     fig, axes = plt.subplots(len(taus), len(Ms), figsize=(4.2 * len(Ms), 2.9 * len(taus)),
                              sharex=True, constrained_layout=True, squeeze=False)
     summary = {}
-    colors = ["C0", "C3", "C2", "C1"]
     for i, ((r, c, tau, M), run) in enumerate(zip(jobs, runs)):
         ax = axes[r, c]
         E = run.mode_energies
         for k in range(min(M, 4)):
-            ax.plot(run.t, E[:, k], lw=0.8, color=colors[k], label=f"$E_{k + 1}$")
+            ax.plot(run.t, E[:, k], lw=0.8, color=mode_color(k + 1), label=f"$E_{k + 1}$")
         ax.set_title(f"({chr(97 + i)}) M = {M}, τ = {tau:g}%" + ("" if run.completed else
                                                                  " (blew up)"), fontsize=10)
         ax.set_ylim(bottom=0)
@@ -105,8 +106,8 @@ def fig4(out_dir=".", *, full: bool = False, N: int = 64, taus=(0.0, 5.0, 10.0),
     for ax in axes[:, 0]:
         ax.set_ylabel("$E_k$")
     axes[0, -1].legend(loc="upper right", fontsize=8, frameon=False)
-    fig.suptitle(f"Galerkin truncation of Eq. (varnonlin) to the first M modes, N = {N}, "
-                 f"α = 0.25, seed {seed}, dt = {dt:g}")
+    fig.suptitle(f"Disordered chain (nonlinear couplings) kept to its first M normal modes: "
+                 f"N = {N}, α = 0.25, disorder seed {seed}, dt = {dt:g}")
     summary["path"] = _save(fig, out)
     return _figure(summary)
 
@@ -156,7 +157,7 @@ def fig5(out_dir=".", *, full: bool = False, N: int = 64, R: int = 100,
 
 def fig6(out_dir=".", *, full: bool = False, N: int = 64, taus=(0.0, 10.0),
          t_end: float = 1e5, seed: int = PAPER_LIKE_SEED) -> Figure:
-    """Q_1 (blue), Q_2 (red) of the two-mode ODE (msvar) and their envelopes +-2|q_j| (black) from
+    """Q_1 (blue), Q_2 (orange) of the two-mode ODE (msvar) and their envelopes +-2|q_j| (black) from
     the envelope equations (msfinal2), q_1(0) = Q_1(0)/2, q_2(0) = 0, T = eps t."""
     quick = not full
     out = target(out_dir, "fig06_envelopes.png")
@@ -175,8 +176,8 @@ def fig6(out_dir=".", *, full: bool = False, N: int = 64, taus=(0.0, 10.0),
                      + r"$\tilde B$" + f" = {c.B_tilde:.3f}", fontsize=10)
         summary[f"tau={tau:g}"] = {"A_tilde": c.A_tilde, "B_tilde": c.B_tilde,
                                    "max_error_Q1": float(err[0]), "max_error_Q2": float(err[1])}
-    fig.suptitle(f"Two-mode system (msvar) and envelope equations (msfinal2), N = {N}, "
-                 f"seed {seed}; leading order " + r"$Q_j \approx 2\,\mathrm{Re}\,(q_j\, "
+    fig.suptitle(f"Two-mode system and its slow envelope equations, N = {N}, "
+                 f"disorder seed {seed}; leading order " + r"$Q_j \approx 2\,\mathrm{Re}\,(q_j\, "
                  r"e^{i(\omega_j t + T)})$, $T = \varepsilon t$")
     summary["path"] = _save(fig, out)
     return _figure(summary)
@@ -209,7 +210,7 @@ def fig7(out_dir=".", *, full: bool = False, N: int = 64,
     for ax in axes:
         ax.text(0.98, 0.03, r"$\tilde A\tilde B<0$: well-defined region unbounded", ha="right",
                 transform=ax.transAxes, fontsize=8, color="0.3")
-    axes[0].set_title(f"(a) equilibria of Eq. (reduced), r₁² = {r1sq:g}")
+    axes[0].set_title(f"(a) equilibria of the reduced two-mode system, r₁² = {r1sq:g}")
     axes[1].set_title("(b) wider view: the tolerance path and the paper's points")
     return _figure({"path": _save(fig, out), "r1sq": r1sq})
 
@@ -240,8 +241,8 @@ def fig8(out_dir=".", *, full: bool = False, N: int = 64,
         ax.set_ylim(extent[2:])
         ax.set_xlabel(r"$\tilde A$")
         ax.set_ylabel(r"$\tilde B$")
-    axes[0].set_title(r"(a) $\Delta_1$ (Eq. deltaequi), $r_1^2$ = %g" % r1sq)
-    axes[1].set_title(r"(b) $\tanh(\Delta_2/100)$")
+    axes[0].set_title(r"(a) equilibrium $\Delta_1$ of the reduced system, $r_1^2$ = %g" % r1sq)
+    axes[1].set_title(r"(b) equilibrium $\Delta_2$, shown as $\tanh(\Delta_2/100)$")
     return _figure({"path": _save(fig, out)})
 
 
@@ -298,8 +299,9 @@ def _phase_portrait(ax, A, B, *, N=64, delta_range=None, T_end=3.0, P_max=None, 
     ax.plot(tht[1], Dt[1], "bs", ms=6)   # theta is undefined at q_2 = 0 itself
     for e in eqs:
         if e.well_defined:
-            style = dict(marker="o", color="g") if e.kind == "centre" else dict(marker="X",
-                                                                                 color="r")
+            # the marker tells Delta_1 from Delta_2 (both can be centres), the colour the type
+            style = dict(marker={1: "o", 2: "D"}.get(e.j, "s"),
+                         color="tab:green" if e.kind == "centre" else "tab:red")
             ax.plot(e.theta, e.delta, ls="none", ms=9, mec="k",
                     label=f"Δ{e.j} = {e.delta:.4f}, θ = {e.theta:.3g} ({e.kind})", **style)
             if e.theta == 0.0:   # theta is periodic with period pi
@@ -355,18 +357,20 @@ FIGURES = {4: fig4, 5: fig5, 6: fig6, 7: fig7, 8: fig8, 9: fig9, 10: fig10}
 
 
 def example_main(number: int, doc: str, argv=None) -> int:
-    """Command line shared by examples/figXX_*.py: --out DIR [--full]."""
+    """Command line shared by examples/figXX_*.py: --out DIR [--full] [--format F] [--dpi D]."""
     import argparse
     import json
     import time
     parser = argparse.ArgumentParser(description=doc,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default="figures", help="directory for the PNG (default: figures)")
+    parser.add_argument("--out", default="figures", help="directory for the figure (default: figures)")
     parser.add_argument("--full", action="store_true",
                         help="paper-quality settings (smaller dt, finer grids; slower)")
+    add_output_options(parser)
     args = parser.parse_args(argv)
     start = time.perf_counter()
-    fig = FIGURES[number](args.out, full=args.full)
+    with figure_output(args.format, args.dpi):
+        fig = FIGURES[number](args.out, full=args.full)
     res = {"path": str(fig), **fig.numbers, "seconds": round(time.perf_counter() - start, 2)}
     print(json.dumps(res, indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else
                      str(o)))

@@ -10,6 +10,8 @@ import numpy as np
 
 from ._figure import save
 
+__all__ = ["thermalization_figure", "PUBLISHED"]
+
 #: the published exponents a of T_eq ~ eps^-a for the built-in studies: (eps range or None for
 #: all points, a, legend)
 PUBLISHED = {

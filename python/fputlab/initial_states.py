@@ -8,13 +8,13 @@ disorder uses GSL's mt19937 in C; the states use numpy, whose streams are docume
 
 Modes. A fixed chain (x_0 = x_{N+1} = 0) uses its sine modes k = 1..N (docs/conventions.md).
 A periodic chain (``lattice.boundary == "periodic"``, x_{j+N} = x_j) uses the complex wave
-amplitudes of the papers,
+amplitudes of the papers::
 
     a_k = (omega_k X_k + i P_k) / sqrt(2 omega_k),   X_k = N^{-1/2} sum_j x_j e^{-2 pi i jk/N},
 
 with omega_k = 2 sin(pi k/N), k = 1..N-1 (k and N-k are the waves travelling right and left;
 the k = 0 translation mode carries no energy and is left at zero), so the harmonic energy is
-sum_k omega_k |a_k|^2 and e_k = omega_k |a_k|^2 is the energy of wave k. P_k is built from the
+``sum_k omega_k |a_k|^2`` and ``e_k = omega_k |a_k|^2`` is the energy of wave k. P_k is built from the
 velocities x' (for model 2, p = v x').
 """
 from __future__ import annotations
@@ -84,7 +84,7 @@ def wave_energies(lattice, y) -> np.ndarray:
     """Harmonic energies of the normal modes for state(s) y of shape (..., 2N).
 
     Fixed chain: E_k = (P_k^2 + omega_k^2 Q_k^2)/2, k = 1..N (`Lattice.mode_energies`).
-    Periodic chain: e_k = omega_k |a_k|^2, k = 1..N-1 (the module docstring), one entry per
+    Periodic chain: ``e_k = omega_k |a_k|^2``, k = 1..N-1 (the module docstring), one entry per
     travelling wave, the k = 0 translation mode left out, as the papers and nlchains do."""
     _check_lattice(lattice)
     y = np.asarray(y, dtype=float)

@@ -16,6 +16,8 @@ from ._pacing import Pacer, first_span
 from ._validate import C_LONG, _int, _positive_real, _real
 from .lattice import Lattice
 
+__all__ = ["integrate", "Integrator", "Run", "iter_samples", "methods", "method_info", "CRITERIA"]
+
 
 def methods() -> list[str]:
     """Names of all integration methods."""
@@ -229,7 +231,7 @@ class Run:
         return np.abs(self.energy - e0) / abs(e0)
 
     def __repr__(self) -> str:
-        from ._display import fmt, time_span
+        from ._display import fmt, join_parts, shorten, time_span
         lat = self.lattice
         parts = [f"N={lat.N}", f"model={lat.model!r}"]
         if lat.seed is not None:
@@ -245,8 +247,8 @@ class Run:
         if self.event:
             parts.append(f"stopped by {self.event['criterion']!r} at t={fmt(self.event['time'])}")
         if not self.completed:
-            parts.append(f"incomplete: {self.message[:80]!r}")
-        return f"Run({', '.join(parts)})"
+            parts.append(f"incomplete: {shorten(self.message, 80)!r}")
+        return join_parts("Run", parts)
 
     def to_xarray(self):
         """The samples as an ``xarray.Dataset`` with units and long names.

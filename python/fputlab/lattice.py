@@ -11,6 +11,8 @@ from ._arrays import as_float_array, check_memory
 from ._validate import C_INT, C_LONG, C_U64, _int, _real  # noqa: F401 (C_INT, C_LONG: public here)
 from .modes import omega as _omega
 
+__all__ = ["Lattice", "draw_disorder", "MODELS", "DISORDERS"]
+
 #: model names (and the paper's equations) -> C model codes
 MODELS = {
     "homogeneous": ll.MODEL_CODES["homogeneous"],   # Eqs. (Hamilt), (eqnmotions)
@@ -18,6 +20,7 @@ MODELS = {
     "nonlinear": ll.MODEL_CODES["nonlinear"],       # Eq. (varnonlin): v in the nonlinear terms only
     "toda": ll.MODEL_CODES["toda"],                 # V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2)
 }
+#: names of the distributions of the disorder draws z (`draw_disorder`) -> C codes
 DISORDERS = dict(ll.DISORDER_CODES)
 #: boundary-condition names -> C codes ("fixed": walls at both ends; "periodic": a ring)
 BOUNDARIES = dict(ll.BOUNDARY_CODES)
@@ -294,6 +297,61 @@ class Lattice:
         amplitude 1); periodic: x_j = amplitude sin(2 pi k j/N + pi/4), k = 1..N-1, the single
         Hartley mode k. coupled=True puts the shape in v_j x_j instead (model 2's smooth mode)."""
         return self._h.initial_state(_int(k, "k"), _real(amplitude, "amplitude"), bool(coupled))
+
+    def with_deviation_vectors(self, y, k: int = ll.CHAOS_DEFAULTS["n_dev"], *,
+                               seed: int = ll.CHAOS_DEFAULTS["seed"]) -> np.ndarray:
+        """The state `y` with `k` random unit deviation vectors: the (1+k, 2N) array that
+        `Integrator` and `iter_samples` take (row 0 the orbit, rows 1..k the vectors).
+
+        The vectors are those `fputlab.chaos.lyapunov` starts from with the same `seed` (to
+        rounding): 2Nk standard normal draws from GSL's mt19937 (the generator of
+        `draw_disorder`), row by row, each row scaled to unit Euclidean norm.
+
+        Parameters
+        ----------
+        y : array_like
+            The orbit's state [x, p], length 2N.
+        k : int, optional
+            Number of deviation vectors (>= 1; default the chaos default, 2).
+        seed : int, optional
+            Seed of the draws (>= 0; default the chaos default, 1): the same seed gives the same
+            vectors.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (1+k, 2N), a new array.
+
+        Raises
+        ------
+        ValueError, TypeError
+            `y` of the wrong length or not finite, `k` < 1, `seed` < 0; the message names the
+            parameter.
+
+        Examples
+        --------
+        >>> lat = Lattice(N=8)
+        >>> y = lat.with_deviation_vectors(lat.mode_state(1), 2, seed=1)
+        >>> y.shape
+        (3, 16)
+        """
+        two_n = 2 * self.N
+        orbit = as_float_array(y, "y", (two_n,))
+        if not np.all(np.isfinite(orbit)):
+            raise ValueError("y must be finite")
+        k = _int(k, "k")
+        if k < 1:
+            raise ValueError(f"k must be >= 1 (got {k})")
+        seed = _int(seed, "seed", C_U64)
+        if seed < 0:
+            raise ValueError(f"seed must be >= 0 (got {seed})")
+        out = np.empty((1 + k, two_n))
+        out[0] = orbit
+        draws = np.empty(two_n * k)
+        ll.disorder_standard(DISORDERS["gaussian"], seed, draws.size, draws)
+        w = draws.reshape(k, two_n)
+        out[1:] = w / np.linalg.norm(w, axis=1, keepdims=True)
+        return out
 
     # -- integration: Lattice.integrate(t_end, ...) = fputlab.integrate(lattice, t_end, ...) is
     # installed by fputlab.integrate, the layer above (the model does not import its integrators)

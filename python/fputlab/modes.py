@@ -5,6 +5,8 @@ import numpy as np
 
 from ._lowlevel import modes_omega
 
+__all__ = ["omega", "mode_matrix"]
+
 
 def omega(N: int) -> np.ndarray:
     """omega_k = 2 sin(k pi / (2(N+1))), k = 1..N (paper Eq. wk)."""

@@ -28,6 +28,38 @@ from collections.abc import Sequence
 
 import numpy as np
 
+__all__ = ["mode_color", "LOG_ENERGY_DECADES", "plot_mode_energies", "envelope", "plot_envelope",
+           "plot_mle", "plot_sali", "plot_two_mode", "plot_blowup_sweep", "plot_blowup_sweep_figure",
+           "plot_bifurcation_curves", "plot_bifurcation", "BIFURCATION_REGIONS", "plot_spectrum",
+           "plot_spectrum_convergence", "plot_megno", "plot_clv_localisation"]
+
+
+def mode_color(k: int) -> str:
+    """The colour of normal mode `k` (1-based) in every fputlab plot: E_k, Q_k and P_k of mode
+    k are drawn in matplotlib's k-th cycle colour ("C0" for mode 1, "C1" for mode 2, ...), so a
+    mode keeps its colour from figure to figure.
+
+    Parameters
+    ----------
+    k : int
+        Mode number, >= 1.
+
+    Returns
+    -------
+    str
+        A matplotlib colour ("C0" ... "C9", repeating after mode 10).
+    """
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+        raise TypeError(f"k must be an integer mode number, got {type(k).__name__}")
+    if k < 1:
+        raise ValueError(f"k must be >= 1 (got {k})")
+    return f"C{(int(k) - 1) % 10}"
+
+
+#: the lowest decade a logarithmic energy axis shows, relative to its largest value: below it
+#: lies only round-off (mode energies that start at exactly 0 sit near 1e-32)
+LOG_ENERGY_DECADES = 12
+
 
 def _axes(ax, figsize=(6, 4)):
     if ax is not None:
@@ -100,8 +132,18 @@ def plot_mode_energies(run, modes=(1, 2, 3, 4), ax=None, relative: bool = False,
             raise ValueError(f"modes: mode {k} is outside 1..{N}")
     scale = run.energy[0] if relative else 1.0
     draw = ax.semilogy if log else ax.plot
+    shown = []
     for k in modes:
-        draw(run.t, run.mode_energies[:, k - 1] / scale, lw=0.9, label=f"$E_{{{k}}}$")
+        values = run.mode_energies[:, k - 1] / scale
+        shown.append(values)
+        draw(run.t, values, lw=0.9, color=mode_color(int(k)), label=f"$E_{{{k}}}$")
+    if log:
+        # floor the axis LOG_ENERGY_DECADES below the largest value drawn: what lies lower is
+        # round-off and would squeeze the dynamics into the top of the panel
+        finite = np.concatenate([v[np.isfinite(v) & (v > 0)] for v in shown] or [np.zeros(0)])
+        if finite.size:
+            top = finite.max()
+            ax.set_ylim(max(finite.min(), top * 10.0 ** -LOG_ENERGY_DECADES) / 2, top * 3)
     ax.set_xlabel("$t$")
     ax.set_ylabel("$E_k/E$" if relative else "$E_k$")
     if legend is not None:
@@ -277,8 +319,8 @@ def plot_two_mode(run, env=None, eps: float | None = None, ax=None, *, legend: s
     matplotlib.axes.Axes
     """
     ax = _axes(ax)
-    ax.plot(run.t, run.Q[:, 0], color="C0", lw=0.3, label="$Q_1$")
-    ax.plot(run.t, run.Q[:, 1], color="C3", lw=0.3, label="$Q_2$")
+    ax.plot(run.t, run.Q[:, 0], color=mode_color(1), lw=0.3, label="$Q_1$")
+    ax.plot(run.t, run.Q[:, 1], color=mode_color(2), lw=0.3, label="$Q_2$")
     if env is not None:
         if eps is None:
             raise ValueError("eps: the detuning is needed to draw the envelopes")

@@ -39,6 +39,9 @@ from .integrate import Integrator, method_info
 from .lattice import Lattice
 from .thermalization import equipartition_time, fit_power_law
 
+__all__ = ["ThermalizationStudy", "ThermalizationSpec", "STUDIES", "EPS_KINDS", "FIT_RANGES",
+           "check_spec", "run_segment", "spec_from_json", "load_summary", "projected_cost"]
+
 _FORMAT = "fputlab-thermalization-study-1"
 EPS_KINDS = ("alpha", "beta")
 

@@ -61,7 +61,14 @@ def test_run_to_xarray_has_dimensions_units_and_values(run):
     np.testing.assert_array_equal(ds["mode_energies"].sel(mode=1).values, run.mode_energies[:, 0])
     np.testing.assert_array_equal(ds["states"].values, run.states)
     for name in ("t", "energy", "mode_energies", "states", "relative_energy_error", "v"):
-        assert ds[name].attrs["units"] and ds[name].attrs["long_name"], name
+        # dimensionless: a short long name in words (xarray's axis label), no units attribute
+        # (xarray would print "time [1]"), the formula in the description
+        attrs = ds[name].attrs
+        assert attrs["long_name"] and attrs["description"] and "units" not in attrs, name
+        assert "(" not in attrs["long_name"] and "=" not in attrs["long_name"], name
+    from xarray.plot.utils import label_from_attrs
+    assert label_from_attrs(ds["t"]) == "time"
+    assert label_from_attrs(ds["mode_energies"]) == "mode energy"
     assert ds.attrs["N"] == 16 and ds.attrs["method"] == "yoshida4"
 
 
@@ -72,6 +79,8 @@ def test_chaos_result_to_xarray(chaos_result):
     np.testing.assert_array_equal(ds["mle"].values, chaos_result.mle)
     np.testing.assert_array_equal(ds["sali"].values, chaos_result.sali)
     assert ds["mle"].attrs["units"] == "1/time"
+    from xarray.plot.utils import label_from_attrs
+    assert label_from_attrs(ds["mle"]) == "Lyapunov exponent [1/time]"
     assert ds.attrs["N"] == 8 and ds.attrs["method"] == chaos_result.method
 
 

@@ -15,6 +15,7 @@ import pytest
 
 import fputlab
 from fputlab.io import chaos_to_file, load, simulate_to_file
+from fputlab._display import VARIABLES
 
 N, T_END = 16, 30000.0
 RUN = dict(sample_every=10.0, store_states=True, checkpoint_every_steps=5000,
@@ -212,7 +213,7 @@ def test_xarray_view_when_installed(tmp_path, reference):
 
 # ---- issue 26, item 5: files a netCDF/xarray user can read -----------------------------------
 
-def test_string_attributes_are_str_and_variables_carry_units(tmp_path):
+def test_string_attributes_are_str_and_variables_carry_cf_attributes(tmp_path):
     import h5py
     from fputlab.io import simulate_to_file as sim
     sim(fputlab.Lattice(8, 0.25, "nonlinear", tau=10.0, seed=3), 5.0, tmp_path / "r.h5",
@@ -222,13 +223,17 @@ def test_string_attributes_are_str_and_variables_carry_units(tmp_path):
             assert isinstance(f.attrs[k], str), (k, f.attrs[k])
         assert f.attrs["disorder"] == "gaussian" and f.attrs["seed"] == 3
         assert f.attrs["tau"] == 10.0
+        # the C writer's CF attributes are those of to_xarray() (_display.VARIABLES): a short
+        # long name, the formula in description, no units on a dimensionless quantity
         for name in ("t", "energy", "mode_energies", "states", "v", "mode", "site", "component"):
-            assert f[name].attrs["units"] == "1", name
-            assert isinstance(f[name].attrs["long_name"], str) and f[name].attrs["long_name"]
+            long_name, units, description = VARIABLES[name]
+            assert f[name].attrs["long_name"] == long_name, name
+            assert f[name].attrs["description"] == description, name
+            assert "units" not in f[name].attrs and units == "1", name
     xr = pytest.importorskip("xarray")
     ds = xr.open_dataset(tmp_path / "r.h5", engine="h5netcdf")
-    assert ds["mode_energies"].attrs["long_name"] == "normal-mode energy E_k"
-    assert ds["t"].attrs["units"] == "1" and ds.attrs["model_name"] == "nonlinear"
+    assert ds["mode_energies"].attrs["long_name"] == "mode energy"
+    assert "units" not in ds["t"].attrs and ds.attrs["model_name"] == "nonlinear"
     ds.close()
 
 
@@ -250,7 +255,13 @@ def test_a_chaos_file_has_no_empty_root_datasets_and_resumes(tmp_path):
     with h5py.File(out) as f:
         assert sorted(f) == ["chaos", "site", "v"]
         assert sorted(f["chaos"]) == ["gali", "mle", "sali", "t"]
-        assert f["chaos/mle"].attrs["long_name"] == "finite-time maximum Lyapunov exponent"
+        for name, key in (("chaos/t", "t_chaos"), ("chaos/mle", "mle"), ("chaos/sali", "sali"),
+                          ("chaos/gali", "gali")):
+            long_name, units, description = VARIABLES[key]
+            assert f[name].attrs["long_name"] == long_name, name
+            assert f[name].attrs["description"] == description, name
+            assert f[name].attrs.get("units", "1") == units, name
+        assert f["chaos/mle"].attrs["units"] == "1/time"
     r = fputlab.load(out)
     assert r.t.shape == (0,) and r.mode_energies.shape == (0, 8) and r.chaos["t"].size == 10
     s = chaos(fputlab.Lattice(8, 0.25), 50.0, out, checkpoint=ck, n_samples=10)

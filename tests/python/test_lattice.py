@@ -170,3 +170,32 @@ def test_model3_energy_is_the_paper_hamiltonian(N, beta, rng):
         y[0], y[1], y[N] = s, 2 * s, 0.2
         assert lat.energy(y) == pytest.approx(0.02 + 3 * s**2 - 0.5 * s**3 + 4.5 * beta * s**4,
                                               rel=1e-14)
+
+
+def test_with_deviation_vectors_are_the_chaos_start_vectors():
+    lat = fputlab.Lattice(N=8, alpha=0.25)
+    y0 = lat.mode_state(1)
+    y = lat.with_deviation_vectors(y0, 3, seed=5)
+    assert y.shape == (4, 16) and np.array_equal(y[0], y0)
+    # independently: the same GSL stream through the disorder draw, v = 1 + (3/300) z
+    z = (fputlab.draw_disorder(3 * 16, 3.0, 5) - 1.0) * 100.0
+    w = z.reshape(3, 16)
+    np.testing.assert_allclose(y[1:], w / np.linalg.norm(w, axis=1, keepdims=True), rtol=0,
+                               atol=1e-13)
+    # and lyapunov started from them is lyapunov with the same seed
+    a = fputlab.chaos.lyapunov(lat, 20.0, n_dev=3, w0=y[1:])
+    b = fputlab.chaos.lyapunov(lat, 20.0, n_dev=3, seed=5)
+    np.testing.assert_allclose(a.mle, b.mle, rtol=1e-12)
+    # the streaming integrator takes the (1+k, 2N) state as it is
+    state = fputlab.Integrator(lat, y, method="yoshida4", dt=0.01).advance(1.0)
+    assert state.shape == (4, 16)
+    assert not np.array_equal(lat.with_deviation_vectors(y0, 3, seed=6)[1:], y[1:])
+
+
+@pytest.mark.parametrize("kwargs, name", [({"k": 0}, "k"), ({"seed": -1}, "seed"),
+                                          ({"y": np.zeros(5)}, "y"), ({"k": 1.5}, "k")])
+def test_with_deviation_vectors_rejects_bad_input(kwargs, name):
+    lat = fputlab.Lattice(N=8)
+    args = {"y": lat.mode_state(1), "k": 2, **kwargs}
+    with pytest.raises((ValueError, TypeError), match=name):
+        lat.with_deviation_vectors(args.pop("y"), args.pop("k"), **args)

@@ -24,3 +24,13 @@ __all__ = ["lyapunov", "lyapunov_batch", "chaotic_fraction", "ChaosResult", "cla
            "covariant_lyapunov_vectors", "CLVResult", "covariant_vectors_from_qr",
            "inverse_participation_ratio", "kaplan_yorke_dimension", "ks_entropy",
            "lyapunov_spectra"]
+
+#: submodules not imported with the package, loaded on first attribute access (PEP 562)
+_LAZY_SUBMODULES = ("study", "outcomes")
+
+
+def __getattr__(name: str):
+    if name in _LAZY_SUBMODULES:
+        import importlib
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

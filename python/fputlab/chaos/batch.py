@@ -18,6 +18,8 @@ from .._validate import _int, _real
 from ..integrate import criteria_events
 from ..lattice import Lattice
 
+__all__ = ["lyapunov_batch", "BATCH_METHODS"]
+
 #: methods the batch kernel runs (the splitting schemes with the kinetic drift; the list is C's,
 #: fpl_chaos_batch_method_name)
 BATCH_METHODS = tuple(ll.chaos_batch_method_names())

@@ -21,6 +21,8 @@ from .batch import BATCH_METHODS, lyapunov_batch
 from .result import CLASSES, ChaosResult
 from .single import ENSEMBLE_DT, ENSEMBLE_METHOD, lyapunov
 
+__all__ = ["chaotic_fraction", "ChaoticFraction", "OrbitRecord", "ensemble_defaults"]
+
 
 class OrbitRecord(NamedTuple):
     """One orbit of a chaos ensemble: its lattice size, disorder seed and result, read by name."""

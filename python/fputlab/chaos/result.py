@@ -12,6 +12,8 @@ from .. import _lowlevel as ll
 from .._display import ResultMixin
 from .._validate import _real
 
+__all__ = ["ChaosResult", "classify_orbit", "CLASSES"]
+
 #: the classes of an orbit, exactly these (C: fpl_orbit_class)
 CLASSES = ("chaotic", "regular", "blow-up", "undecided")
 

@@ -15,6 +15,8 @@ from .._validate import C_U64, _int, _real
 from ..integrate import method_info
 from ..lattice import Lattice
 
+__all__ = ["lyapunov", "sali", "gali", "ENSEMBLE_METHOD", "ENSEMBLE_DT"]
+
 
 #: The default integrator of chaos ensembles (chaotic_fraction, sweeps, the study behind
 #: Figs. 12-14): the fastest scheme validated (tests/python/test_study.py,

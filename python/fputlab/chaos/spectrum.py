@@ -23,6 +23,10 @@ from ..engine import StudyKind, StudyResult, run_study
 from ..integrate import method_info
 from ..lattice import Lattice
 
+__all__ = ["lyapunov_spectrum", "lyapunov_spectra", "SpectrumResult", "covariant_lyapunov_vectors",
+           "CLVResult", "covariant_vectors_from_qr", "inverse_participation_ratio",
+           "kaplan_yorke_dimension", "ks_entropy"]
+
 #: the C defaults of the spectrum options (fpl_spectrum_options_init)
 _S = ll.SPECTRUM_DEFAULTS
 

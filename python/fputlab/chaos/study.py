@@ -45,6 +45,8 @@ from ..integrate import method_info
 from ..lattice import MODELS
 from .ensemble import CHAOS_KIND, ChaoticFraction, _lattice, _report, chaos_accumulators
 
+__all__ = ["ChaosStudy", "StudySpec", "OrbitState", "advance_orbit", "advance_group", "HORIZONS"]
+
 _FORMAT = "fputlab-chaos-study-1"
 
 @dataclass(frozen=True)

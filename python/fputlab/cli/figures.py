@@ -4,6 +4,7 @@ from __future__ import annotations
 import os
 import sys
 
+from .._figure import add_output_options
 from .parsers import _alias, _sub
 
 #: the figure sets beyond the paper's numbered figures
@@ -25,6 +26,12 @@ def _figure_key(text: str):
 
 
 def cmd_figures(a):
+    from ..figures import figure_output
+    with figure_output(a.format, a.dpi):
+        return _figures(a)
+
+
+def _figures(a):
     from ..figures import all_figures
     keys = [_figure_key(k) for k in a.only] if a.only else None
     only = {k for k in keys if isinstance(k, int)} if keys else None
@@ -66,7 +73,7 @@ def cmd_figures(a):
 
 
 def _parser_figures(sub, parents):
-    s = _sub(sub, "figures", "regenerate the paper's figures as PNGs")
+    s = _sub(sub, "figures", "regenerate the paper's figures (PNG, or PDF/SVG for a paper)")
     s.add_argument("--out-dir", default="figures", metavar="DIR",
                    help="output directory (default figures/)")
     _alias(s, "--out", "--out-dir", "out_dir", metavar="DIR")
@@ -76,6 +83,7 @@ def _parser_figures(sub, parents):
                    help="figure numbers (1-14) to make, or open-questions: the figures of the "
                    "paper's open questions from the studies in --work-dir (default "
                    "studies/open_questions; docs/open_questions.md) (default: figures 1-14)")
+    add_output_options(s)
     s.add_argument("--work-dir", help="chaos study of Figs. 12-14: one state file per orbit, "
                    "resumed by the next call (default OUT_DIR/chaos_study)")
     s.add_argument("--t-end", type=float, metavar="T", help="how far the chaos study goes in this call "

@@ -16,7 +16,10 @@ from .. import _lowlevel as ll
 from .._errors import check, last_error
 from .._validate import _path
 from ..integrate import method_info
-from ..lattice import Lattice
+from ..lattice import MODELS, Lattice
+
+__all__ = ["load", "Results", "ResultsFile", "write_checkpoint", "load_checkpoint",
+           "checkpoint_time", "STATUSES", "VERIFY_TIMEOUT"]
 
 #: how a run ended, as written to the file's `status` attribute
 STATUSES = ("running", "completed", "event", "failed", "interrupted")
@@ -323,7 +326,17 @@ def _verify_resume(out, lattice: Lattice, info: _RunInfo, checkpoint) -> None:
 
 
 # ---- reading ---------------------------------------------------------------------------------
-@dataclass
+def _attr_text(value) -> str:
+    """An HDF5 attribute for a repr: bytes decoded, numbers short, strings quoted."""
+    from .._display import fmt
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", "replace")
+    if isinstance(value, np.ndarray) and value.size == 1:
+        value = value.item()
+    return repr(value) if isinstance(value, str) else fmt(value)
+
+
+@dataclass(repr=False)
 class Results:
     """Contents of a results file as numpy arrays (`attrs`: the run description)."""
     attrs: dict
@@ -338,6 +351,33 @@ class Results:
     @property
     def status(self) -> str:
         return self.attrs.get("status", "")
+
+    def __repr__(self) -> str:
+        # one line, like Run: the file, the lattice, the time span and the shapes, never the
+        # arrays themselves (v alone has N numbers)
+        from .._display import fmt, join_parts, time_span
+        a = self.attrs
+        parts = [repr(self.path)] if self.path else []
+        parts.append(f"N={self.v.size}")
+        model = a.get("model")
+        names = {code: name for name, code in MODELS.items()}
+        if isinstance(model, (int, np.integer)) and int(model) in names:
+            model = names[int(model)]
+        if model is not None:
+            parts.append(f"model={_attr_text(model)}")
+        parts += [f"{k}={_attr_text(a[k])}" for k in ("tau", "seed", "method", "dt")
+                  if k in a and _attr_text(a[k]) not in ("''", "-1")]
+        if self.status:
+            parts.append(f"status={self.status!r}")
+        parts.append(time_span(self.t))
+        parts.append("mode_energies[" + "x".join(map(str, self.mode_energies.shape)) + "]")
+        if self.states is not None:
+            parts.append("states[" + "x".join(map(str, self.states.shape)) + "]")
+        if self.chaos:
+            n = np.size(self.chaos.get("t", ()))
+            last = {k: self.chaos[k][-1] for k in ("mle", "sali") if np.size(self.chaos.get(k, ()))}
+            parts.append(f"chaos: {n} samples" + "".join(f", {k}={fmt(v)}" for k, v in last.items()))
+        return join_parts("Results", parts)
 
     def to_xarray(self):
         """The results as an xarray Dataset (needs xarray)."""

@@ -22,6 +22,8 @@ from ..lattice import Lattice
 from .files import (ResultsFile, _check_output_paths, _RunInfo, _verify_resume,
                     load_checkpoint, write_checkpoint)
 
+__all__ = ["simulate_to_file", "chaos_to_file", "RunSummary"]
+
 #: the C defaults of the chaos options (fpl_chaos_options_init)
 _C = ll.CHAOS_DEFAULTS
 

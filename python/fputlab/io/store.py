@@ -1,4 +1,4 @@
-"""The work directory of a study (`fputlab.engine`): what is on disk and how it is written.
+"""The work directory of a study (`fputlab.engine`): what is on disk and how it is written::
 
     work_dir/
         study.json      the spec: kind, grid, settings, its key (a hash), the format; created

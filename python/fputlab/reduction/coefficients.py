@@ -13,6 +13,9 @@ from .._arrays import as_float_array
 from .._validate import _int, _real, _size
 from ..lattice import Lattice, _model_code
 
+__all__ = ["COEFFICIENT_NAMES", "frequencies", "detuning", "r1_squared", "TwoModeCoefficients",
+           "two_mode_coefficients", "quadratic_forms"]
+
 
 #: order of the raw coefficients everywhere (mode-1 equation a, mode-2 equation b)
 COEFFICIENT_NAMES = ("a1", "a2", "a3", "b1", "b2", "b3")

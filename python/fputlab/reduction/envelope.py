@@ -12,6 +12,8 @@ from .._validate import _finite_real, _size
 from .coefficients import r1_squared
 from .modal import ModalRun
 
+__all__ = ["envelope_rhs", "EnvelopeRun", "ENVELOPE_MAX_STEPS", "envelope_run", "envelope_error"]
+
 
 
 def envelope_rhs(q: np.ndarray, A_tilde: float, B_tilde: float) -> np.ndarray:

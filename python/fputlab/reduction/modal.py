@@ -17,6 +17,8 @@ from ..integrate import _sample_times
 from ..lattice import Lattice
 from .coefficients import TwoModeCoefficients
 
+__all__ = ["ModalRun", "two_mode_run", "Galerkin"]
+
 
 def _scheme(method: str):
     if not isinstance(method, str):

@@ -20,6 +20,9 @@ def _r1sq(value) -> float:
 from .coefficients import r1_squared
 from .envelope import envelope_run
 
+__all__ = ["to_reduced", "Equilibrium", "ReducedSystem", "equilibrium_map", "bifurcation_curves",
+           "REGIONS", "classify"]
+
 
 
 def to_reduced(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -16,6 +16,10 @@ from .._validate import C_U64, _int, _real, _size
 from ..lattice import DISORDERS, _model_code
 from .coefficients import _tilde_scales, quadratic_forms
 
+__all__ = ["CoefficientMoments", "coefficient_moments", "RealisationQuadratics",
+           "realisation_quadratics", "EnsembleStatistics", "ensemble_statistics", "quadratic_fit",
+           "CriticalTolerance", "critical_tolerance"]
+
 
 
 def _draws(N: int, seeds, kind: str) -> np.ndarray:
