@@ -370,6 +370,16 @@ def open_questions(out_dir=".", *, work_dir="studies/open_questions", t_until=No
     return _finish(figs, numbers, out_dir, rec, loaded, reached)
 
 
+def _numbers_path(out_dir) -> str:
+    """open_questions.json beside the figures (out_dir, or the folder of a figure file name)."""
+    import os
+    out = os.fspath(out_dir)
+    folder = os.path.dirname(out) if os.path.splitext(out)[1] else out
+    if folder:
+        os.makedirs(folder, exist_ok=True)
+    return os.path.join(folder, "open_questions.json")
+
+
 def _finish(figs, numbers, out_dir, rec, loaded=None, reached=None):
     """The figures that need only the recurrence and the phase-diagram studies, and the
     numbers file."""
@@ -389,7 +399,7 @@ def _finish(figs, numbers, out_dir, rec, loaded=None, reached=None):
 
     if loaded is None or sum(n.startswith("phase/") for n in loaded) != len(PHASE_TAU):
         plt.close("all")
-        with open(target(out_dir, "open_questions.json"), "w") as fh:
+        with open(_numbers_path(out_dir), "w") as fh:
             json.dump(numbers, fh, indent=1, default=float)
         return figs
     t_ph = min(reached[n] for n in loaded if n.startswith("phase/"))
@@ -401,7 +411,7 @@ def _finish(figs, numbers, out_dir, rec, loaded=None, reached=None):
     numbers["phase"] = {"t": t_ph, **{k: g.tolist() for k, g in grids.items()}}
     figs.append(save(fig, target(out_dir, "open_phase.png"), numbers["phase"]))
     plt.close("all")
-    with open(target(out_dir, "open_questions.json"), "w") as fh:
+    with open(_numbers_path(out_dir), "w") as fh:
         json.dump(numbers, fh, indent=1, default=float)
     return figs
 
