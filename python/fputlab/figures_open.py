@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
@@ -162,8 +163,10 @@ def fig_recurrence(table: dict, path):
         taus = np.asarray(d["tau"])
         for ax, key in ((axes[0], "peak"), (axes[1], "dip")):
             v = np.asarray(d[key])          # (tau, seed), NaN where the orbit blew up
-            med = np.nanmedian(v, axis=1)
-            q1, q3 = np.nanpercentile(v, 25, axis=1), np.nanpercentile(v, 75, axis=1)
+            with warnings.catch_warnings():     # a tau where every orbit blew up: NaN
+                warnings.simplefilter("ignore", RuntimeWarning)
+                med = np.nanmedian(v, axis=1)
+                q1, q3 = np.nanpercentile(v, 25, axis=1), np.nanpercentile(v, 75, axis=1)
             ax.plot(taus, med, color=colour, marker=marker, label=label)
             ax.fill_between(taus, q1, q3, color=colour, alpha=0.2)
         axes[2].plot(taus, np.asarray(d["blown_up"]).mean(axis=1), color=colour, marker=marker,
@@ -196,7 +199,7 @@ def fig_phase(outcomes_by_tau: dict, t_eval: float, path, *, tau_c_curve):
             grids["chaotic"][i, j] = r["chaotic"] / r["n"]
             grids["blow-up"][i, j] = r["blow-up"] / r["n"]
             grids["regular"][i, j] = (r["regular"] + r["undecided"]) / r["n"]
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2), constrained_layout=True, sharey=True)
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.6), layout="constrained", sharey=True)
     cmaps = {"chaotic": "Reds", "blow-up": "Greys", "regular": "Blues"}
     Nc, tc = tau_c_curve
     for ax, (k, g) in zip(axes, grids.items()):
@@ -217,7 +220,8 @@ def fig_phase(outcomes_by_tau: dict, t_eval: float, path, *, tau_c_curve):
         ax.set_title(f"{k}")
         fig.colorbar(im, ax=ax, fraction=0.05)
     axes[0].set_ylabel("disorder tau (%)")
-    axes[0].legend(loc="upper right", fontsize=7)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles[:1], labels[:1], loc="outside lower center", fontsize=8)
     fig.suptitle(f"Model 3 at t = 10$^{{{int(round(math.log10(t_eval)))}}}$: fraction of the "
                  "realisations in each class")
     return fig, grids
@@ -390,11 +394,13 @@ def _finish(figs, numbers, out_dir, rec, loaded=None, reached=None):
     from ._figure import save, target
     from .reduction.statistics import critical_tolerance
     fig = fig_recurrence(rec, None)
-    numbers["recurrence"] = {m: {"tau": d["tau"], "t_recurrence": d["t_recurrence"],
+    with warnings.catch_warnings():     # tau where every orbit blew up: NaN, said so
+        warnings.simplefilter("ignore", RuntimeWarning)
+        numbers["recurrence"] = {m: {"tau": d["tau"], "t_recurrence": d["t_recurrence"],
                                  "peak_median": np.nanmedian(d["peak"], axis=1).tolist(),
-                                 "dip_median": np.nanmedian(d["dip"], axis=1).tolist(),
-                                 "blown_up": d["blown_up"].mean(axis=1).tolist()}
-                             for m, d in rec.items()}
+                                     "dip_median": np.nanmedian(d["dip"], axis=1).tolist(),
+                                     "blown_up": d["blown_up"].mean(axis=1).tolist()}
+                                 for m, d in rec.items()}
     figs.append(save(fig, target(out_dir, "open_recurrence.png"), numbers["recurrence"]))
 
     if loaded is None or sum(n.startswith("phase/") for n in loaded) != len(PHASE_TAU):
