@@ -45,7 +45,7 @@ from ..integrate import method_info
 from ..lattice import MODELS
 from .ensemble import CHAOS_KIND, ChaoticFraction, _lattice, _report, chaos_accumulators
 
-__all__ = ["ChaosStudy", "StudySpec", "OrbitState", "advance_orbit", "advance_group", "HORIZONS"]
+__all__ = ["ChaosStudy", "StudySpec", "HORIZONS", "migrate_legacy"]
 
 _FORMAT = "fputlab-chaos-study-1"
 
