@@ -476,8 +476,9 @@ def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
     order = {t: i for i, t in enumerate(tasks)}
     failed.sort(key=lambda f: order[f.task])
     done = [records[t] for t in tasks if t in records]
-    params = {"kind": kind, "taus": np.array(taus), "Ns": np.array(Ns),
-              "realisations": realisations, "t_max": spec.t_max, "model": model,
+    # one name per idea: the merged file says tau and t_end, as the arguments do
+    params = {"kind": kind, "tau": np.array(taus), "Ns": np.array(Ns),
+              "realisations": realisations, "t_end": spec.t_max, "model": model,
               "alpha": spec.alpha, "first_seed": int(first_seed), "method": spec.method,
               "task_options": json.dumps(dict(spec.options), sort_keys=True, default=_jsonable),
               "sweep_key": key, "n_tasks": len(tasks), "n_failed": len(failed)}

@@ -111,7 +111,7 @@ def test_merged_blowup_matches_direct_call(tmp_path):
     m = load_sweep(tmp_path / "b.h5")
     assert m["attrs"]["fputlab_version"] == fputlab.__version__
     assert m["attrs"]["kind"] == "blowup" and m["attrs"]["realisations"] == 3
-    np.testing.assert_array_equal(m["attrs"]["taus"], [10.0, 50.0])
+    np.testing.assert_array_equal(m["attrs"]["tau"], [10.0, 50.0])
     assert m["attrs"]["model"] == "nonlinear" and m["attrs"]["alpha"] == 0.25
     assert list(m["kind"]) == ["blowup"] * 12
     assert set(COLUMNS["blowup"]) <= set(m)
