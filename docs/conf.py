@@ -80,9 +80,7 @@ sphinx_gallery_conf = {
     "gallery_dirs": ["auto_tutorial", "auto_examples"],
     # run every example except the pre-rendered ones
     "filename_pattern": r"/(?!(" + "|".join(re.escape(n) for n in PRERENDERED) + r")$)[^/]+\.py$",
-    # thermalization_teq.py draws from study summaries (studies/thermalization/*.json) that are
-    # not in the repository yet: not run here until they are
-    "ignore_pattern": r"__init__\.py|/c/|thermalization_teq\.py",
+    "ignore_pattern": r"__init__\.py|/c/",
     "reset_argv": "gallery_figures.figure_script_argv",
     "image_scrapers": ("gallery_figures.scrape_written_figures",),
     "within_subsection_order": "FileNameSortKey",

@@ -32,11 +32,15 @@ from pathlib import Path
 from fputlab.figures_thermalization import thermalization_figure
 from fputlab.thermalization_study import load_summary
 
+try:
+    ROOT = Path(__file__).resolve().parents[1]
+except NameError:           # run by the docs gallery, which gives no __file__, from examples/
+    ROOT = Path.cwd().resolve().parent
+
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--summaries", default=str(Path(__file__).resolve().parents[1] / "studies"
-                                              / "thermalization"))
+    p.add_argument("--summaries", default=str(ROOT / "studies" / "thermalization"))
     p.add_argument("--studies", nargs="+", default=["alpha"])
     p.add_argument("--out", default="thermalization_teq.png")
     a = p.parse_args()

@@ -16,7 +16,7 @@ def figure_script_argv(gallery_conf, script_vars):
     """Command line of an example run by the gallery: figure scripts get ``--out FIGURE_OUT``."""
     name = Path(script_vars["src_file"]).name
     if name == "thermalization_teq.py":     # --out is its file name, not a directory
-        return ["--out", str(FIGURE_OUT / "thermalization_teq.png")]   # (ignored in conf.py)
+        return ["--out", str(FIGURE_OUT / "thermalization_teq.png")]
     return ["--out", str(FIGURE_OUT)] if name.startswith("fig") else []
 
 
