@@ -439,16 +439,16 @@ def _merge(k, spec, tasks, store, memory):
     for name, (edims, dtype, units, long_name) in k.variables.items():
         arr = arrays[name].astype(str) if dtype is str else arrays[name]
         attrs = {"long_name": long_name}
-        if units:
+        if units and units != "1":     # dimensionless: no units (labels "time", not "time [1]")
             attrs["units"] = units
         data[name] = (k.dims + tuple(edims), arr, attrs)
-    data["t_reached"] = (k.dims, t_reached, {"units": "1", "long_name": "time reached"})
+    data["t_reached"] = (k.dims, t_reached, {"long_name": "time reached"})
     data["finished"] = (k.dims, finished,
                         {"long_name": "task finished: a larger t_end adds nothing"})
     ds = xr.Dataset(data, coords=coords)
     for d, attrs in k.coord_attrs.items():
         if d in ds.coords:
-            ds[d].attrs.update(attrs)
+            ds[d].attrs.update({a: v for a, v in attrs.items() if (a, v) != ("units", "1")})
     ds.attrs.update({"kind": spec.kind, "t_end": spec.t_end, "study_key": spec.key(),
                      "settings": json.dumps(spec.settings, sort_keys=True),
                      "fputlab_version": VERSION})
