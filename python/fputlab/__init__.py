@@ -23,6 +23,22 @@ def _command_line_start() -> bool:
             arg0.endswith(_os.path.join("fputlab", "__main__.py")))
 
 
+def _interrupted_while_starting(signum, frame):
+    # exit at once: a KeyboardInterrupt raised inside numpy's own import comes out as an
+    # ImportError with a traceback, whatever catches it here
+    _sys.stderr.write("fputlab: interrupted\n")
+    _sys.stderr.flush()
+    _os._exit(130)
+
+
+_previous_sigint = None
+if _command_line_start():
+    import signal as _signal
+    try:
+        _previous_sigint = _signal.signal(_signal.SIGINT, _interrupted_while_starting)
+    except ValueError:              # not the main thread: leave signals alone
+        _previous_sigint = None
+
 try:
     from ._errors import FputlabError, IntegrationError, Interrupted
     from ._lowlevel import VERSION as __version__
@@ -38,6 +54,9 @@ except KeyboardInterrupt:
         raise
     print("fputlab: interrupted", file=_sys.stderr)
     raise SystemExit(130) from None
+finally:
+    if _previous_sigint is not None:    # the command's own Ctrl-C handling from here on
+        _signal.signal(_signal.SIGINT, _previous_sigint)
 
 #: the public submodules, imported on first attribute access
 _SUBMODULES = ("analysis", "blowup", "chaos", "cli", "engine", "ensemble", "figures",
