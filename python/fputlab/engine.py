@@ -151,7 +151,8 @@ def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float
     d = 1 + z * z / n
     c = (p + z * z / (2 * n)) / d
     h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
+    # exact ends at k = 0 and k = n (the formula gives 1 - 1e-16 there in floating point)
+    return (0.0 if k == 0 else max(0.0, c - h), 1.0 if k == n else min(1.0, c + h))
 
 
 @dataclass(repr=False)

@@ -307,13 +307,14 @@ def fig13(out_dir=".", *, full: bool = False, study=None, **study_options):
 def fig14(out_dir=".", *, full: bool = False, study=None, **study_options):
     """Fig. 14: percentage of chaotic orbits (SALI < 1e-8 on a finite orbit) among the
     realisations versus N, with the percentage that blew up (never counted as chaotic), at the
-    time every orbit has reached.
+    time every orbit has reached, with Wilson 95 % intervals (the paper draws none).
 
     Returns
     -------
     Figure
         The PNG's path; ``numbers``: {"t", "N", "percent_chaotic", "percent_blowup",
-        "classes"}.
+        their Wilson 95 % intervals "percent_chaotic_interval", "percent_blowup_interval"
+        ([low, high] per N), "classes"}.
     """
     from ._figure import save, target
     study = study or chaos_study(full=full, out_dir=out_dir, **study_options)
@@ -322,23 +323,33 @@ def fig14(out_dir=".", *, full: bool = False, study=None, **study_options):
     counts = study.classes(t)
     Ns = sorted(counts)
     R = study.spec.realisations
+    from .engine import wilson_interval
     fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
     pct = lambda k: [100.0 * counts[N][k] / R for N in Ns]
-    ax.plot(Ns, pct("chaotic"), "ko-", label="chaotic")
-    ax.plot(Ns, pct("blow-up"), "s--", color="tab:red", label="blew up (not chaos)")
+    # the paper's figure has no error bars: Wilson 95 % intervals of each binomial proportion
+    # (R realisations per N), as the open-questions figures draw them
+    wilson = lambda k: np.array([wilson_interval(counts[N][k], R) for N in Ns]) * 100.0
+    for key, fmt, colour, label in (("chaotic", "o-", "k", "chaotic"),
+                                    ("blow-up", "s--", "tab:red", "blew up (not chaos)")):
+        lo_hi = wilson(key)
+        y = np.array(pct(key))
+        ax.errorbar(Ns, y, yerr=np.clip([y - lo_hi[:, 0], lo_hi[:, 1] - y], 0, None), fmt=fmt, color=colour,
+                    capsize=3, lw=1.2, label=label)
     if any(counts[N]["not reached"] for N in Ns):
         ax.plot(Ns, pct("not reached"), "x:", color="gray", label="not yet at t")
     ax.set_xscale("log", base=2)
     ax.set_xticks(Ns, [str(N) for N in Ns])
     ax.set_ylim(-4, 104)
     ax.set_xlabel("N")
-    ax.set_ylabel(f"% of {R} realisations")
+    ax.set_ylabel(f"% of {R} realisations (Wilson 95 % intervals)")
     ax.legend(frameon=False)
     ax.set_title(f"Disordered chain (nonlinear couplings), τ = {study.spec.tau:g} %, "
                  f"{_reached_label(study)}", fontsize=10)
     return save(fig, target(out_dir, "fig14_chaotic_fraction.png"),
                 {"t": t, "N": Ns, "percent_chaotic": pct("chaotic"),
-                 "percent_blowup": pct("blow-up"), "classes": counts})
+                 "percent_chaotic_interval": wilson("chaotic").tolist(),
+                 "percent_blowup": pct("blow-up"),
+                 "percent_blowup_interval": wilson("blow-up").tolist(), "classes": counts})
 
 
 def fig12_13(out_dir=".", *, full: bool = False, **study_options):

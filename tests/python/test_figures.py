@@ -69,3 +69,21 @@ def test_mode_energy_legend_keeps_off_a_dominant_E1():
     inside = (box.x0 <= e1[:, 0]) & (e1[:, 0] <= box.x1) & (box.y0 <= e1[:, 1]) & (e1[:, 1] <= box.y1)
     assert not inside.any()
     plt.close(fig)
+
+
+def test_fig14_has_wilson_intervals_from_the_stored_study(tmp_path):
+    """Fig. 14 of the paper's study (studies/fig12_14) draws 95 % intervals: they agree with
+    scipy's Wilson interval of each count and contain the point."""
+    stats = pytest.importorskip("scipy.stats")
+    from fputlab.chaos.study import ChaosStudy
+    root = pathlib.Path(__file__).resolve().parents[2] / "studies" / "fig12_14"
+    fig = figures.fig14(tmp_path, study=ChaosStudy(root))
+    nums = fig.numbers
+    R = 30
+    for key in ("chaotic", "blowup"):
+        pct = nums[f"percent_{key}"]
+        for p, (lo, hi) in zip(pct, nums[f"percent_{key}_interval"]):
+            ci = stats.binomtest(round(p * R / 100), R).proportion_ci(method="wilson")
+            assert lo == pytest.approx(100 * ci.low, abs=1e-9)
+            assert hi == pytest.approx(100 * ci.high, abs=1e-9)
+            assert lo <= p <= hi
