@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -22,7 +23,7 @@ from .recurrence import recurrence_quality, recurrence_time
 
 __all__ = ["open_questions", "fig_monotone", "fig_threshold", "fig_models", "fig_recurrence",
            "fig_phase", "plot_fraction_vs_N", "plot_survival", "threshold_tau", "chaos_studies",
-           "recurrence_table"]
+           "recurrence_table", "monotone_markdown", "reached_markdown", "generated_tables"]
 
 _CLASS_COLOURS = {"chaotic": "#c0392b", "regular": "#2471a3", "blow-up": "#7f8c8d",
                   "undecided": "#f5b041"}
@@ -442,3 +443,65 @@ def monotone_markdown(rows: list[dict], t: float) -> str:
             f"{_pct(r['fraction_chaotic'], r['fraction_chaotic_low'], r['fraction_chaotic_high'])}"
             f" | {_pct(r['fraction_chaotic_given_no_blowup'], r['fraction_chaotic_given_no_blowup_low'], r['fraction_chaotic_given_no_blowup_high'])} |")
     return "\n".join(lines)
+
+
+def _power(t: float) -> str:
+    """t as text: 10⁶, 2×10⁶, 2.5×10⁶."""
+    e = math.floor(math.log10(t))
+    m = round(t / 10.0 ** e, 2)
+    sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"10{sup}" if m == 1 else f"{m:g}×10{sup}"
+
+
+def reached_markdown(loaded: dict) -> str:
+    """The README / docs table of how far each chaos study of the open questions has followed
+    its orbits, per study and N: the orbits still undecided (neither chaotic nor blown up) and
+    the time every one of them has reached; "all decided" where none is left. Generated from
+    the stored studies (`loaded`: name -> OrbitOutcomes)."""
+    lines = ["| study | N | orbits | still undecided | followed to |", "|---|---|---|---|---|"]
+    for name in sorted(loaded, key=lambda n: (n != "monotone", n)):
+        o = loaded[name]
+        for N in np.unique(o.N):
+            sel = o.N == N
+            open_ = sel & np.isnan(o.t_chaotic) & np.isnan(o.t_blowup)
+            t = float(np.min(o.t_reached[open_])) if open_.any() else math.nan
+            lines.append(f"| `{name}` | {N} | {int(sel.sum())} | {int(open_.sum())} | "
+                         + (f"t = {_power(t)}" if open_.any() else "all decided") + " |")
+    return "\n".join(lines)
+
+
+#: the generated blocks of README.md and docs/open_questions.md:
+#: <!-- open-questions[:STUDY] [t=T] --> ... <!-- end -->; STUDY monotone (default), model2
+#: (the monotonicity table of that study at t) or reached (`reached_markdown`)
+GENERATED = re.compile(r"<!-- open-questions(?::(\w+))?(?: t=(\S+))? -->\n"
+                       r"((?:(?!<!--).)*?)<!-- end -->", re.S)
+
+
+def generated_tables(text: str, work_dir="studies/open_questions") -> str:
+    """`text` (a page) with every generated block (`GENERATED`) rewritten from the stored
+    studies in `work_dir` (nothing is computed). tools/update-open-tables.py applies it to the
+    README and docs/open_questions.md; a test checks they are up to date."""
+    import os
+
+    from .chaos.study import ChaosStudy
+    cache: dict = {}
+
+    def outcomes(name):
+        if name not in cache:
+            cache[name] = outcomes_from_dataset(
+                ChaosStudy(os.path.join(os.fspath(work_dir), name)).result().to_xarray())
+        return cache[name]
+
+    def block(m):
+        study, t = m.group(1) or "monotone", m.group(2)
+        if study == "reached":
+            names = [n for n in chaos_studies() if os.path.isdir(os.path.join(work_dir, n))
+                     and not n.startswith(("tauc/", "phase/"))]
+            body = reached_markdown({n: outcomes(n) for n in names})
+        else:
+            if t is None:
+                raise ValueError(f"generated block {m.group(0).splitlines()[0]} needs t=")
+            body = monotone_markdown(outcome_table(outcomes(study), [float(t)]), float(t))
+        head = m.group(0).splitlines()[0]
+        return f"{head}\n{body}\n<!-- end -->"  # noqa: E501
+    return GENERATED.sub(block, text)
