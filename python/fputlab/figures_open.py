@@ -23,7 +23,8 @@ from .recurrence import recurrence_quality, recurrence_time
 
 __all__ = ["open_questions", "fig_monotone", "fig_threshold", "fig_models", "fig_recurrence",
            "fig_phase", "plot_fraction_vs_N", "plot_survival", "threshold_tau", "chaos_studies",
-           "recurrence_table", "monotone_markdown", "reached_markdown", "generated_tables"]
+           "recurrence_table", "monotone_markdown", "reached_markdown", "answer_markdown",
+           "generated_tables"]
 
 _CLASS_COLOURS = {"chaotic": "#c0392b", "regular": "#2471a3", "blow-up": "#7f8c8d",
                   "undecided": "#f5b041"}
@@ -453,26 +454,74 @@ def _power(t: float) -> str:
     return f"10{sup}" if m == 1 else f"{m:g}×10{sup}"
 
 
-def reached_markdown(loaded: dict) -> str:
+def reached_markdown(loaded: dict, per_N: bool = True) -> str:
     """The README / docs table of how far each chaos study of the open questions has followed
-    its orbits, per study and N: the orbits still undecided (neither chaotic nor blown up) and
-    the time every one of them has reached; "all decided" where none is left. Generated from
-    the stored studies (`loaded`: name -> OrbitOutcomes)."""
+    its orbits, per study and N (per study only if not `per_N`): the orbits still undecided
+    (neither chaotic nor blown up) and the time every one of them has reached; "all decided"
+    where none is left. Generated from the stored studies (`loaded`: name -> OrbitOutcomes)."""
     lines = ["| study | N | orbits | still undecided | followed to |", "|---|---|---|---|---|"]
     for name in sorted(loaded, key=lambda n: (n != "monotone", n)):
         o = loaded[name]
-        for N in np.unique(o.N):
-            sel = o.N == N
+        sizes = np.unique(o.N)
+        for N in (sizes if per_N else [None]):
+            sel = o.N == N if per_N else np.ones(o.N.size, bool)
+            label = N if per_N else ", ".join(str(n) for n in sizes)
             open_ = sel & np.isnan(o.t_chaotic) & np.isnan(o.t_blowup)
             t = float(np.min(o.t_reached[open_])) if open_.any() else math.nan
-            lines.append(f"| `{name}` | {N} | {int(sel.sum())} | {int(open_.sum())} | "
+            lines.append(f"| `{name}` | {label} | {int(sel.sum())} | {int(open_.sum())} | "
                          + (f"t = {_power(t)}" if open_.any() else "all decided") + " |")
     return "\n".join(lines)
 
 
+def _p(p: float) -> str:
+    e = math.floor(math.log10(p)) if p > 0 else 0
+    m = round(p / 10.0 ** e)
+    if m == 10:
+        m, e = 1, e + 1
+    sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"{p:.2g}" if p >= 0.01 else f"{m}×10{sup}"
+
+
+def answer_markdown(outcomes: OrbitOutcomes, t: float) -> str:
+    """The monotonicity answer of one chaos study at time t, as Markdown bullets: where the
+    chaotic fraction peaks and every significant decrease after it (Fisher's exact test,
+    Bonferroni over all pairs of sizes), of all orbits and of those that did not blow up.
+    Generated from the stored study, so the README states no number by hand."""
+    rows = [r for r in outcome_table(outcomes, [t]) if r["n"] > 0]
+    out = []
+    for key, what in (("fraction_chaotic", "of all orbits"),
+                      ("fraction_chaotic_given_no_blowup", "of the orbits that did not blow up")):
+        if key != "fraction_chaotic" and not any(r["blow-up"] for r in rows):
+            continue                            # no blow-up: the same numbers again
+        ok = [r for r in rows if np.isfinite(r[key])]
+        top = max(ok, key=lambda r: r[key])
+        test = monotonicity(ok, key)
+        drops = [d for d in test["significant_decreases"] if d["from_N"] == top["N"]]
+        head = (f"- chaotic fraction {what}: largest at N = {top['N']}, "
+                f"{_pct(top[key], top[key + '_low'], top[key + '_high'])}; ")
+        if test["monotone"]:
+            out.append(head + f"no significant decrease between any two sizes "
+                       f"(Fisher, Bonferroni over {test['pairs']} pairs): **monotone within "
+                       "the errors**")
+            continue
+        fall = drops or test["significant_decreases"]
+        by_n = {r["N"]: r for r in ok}
+        parts = [f"N = {d['from_N']} → {d['to_N']}: {_pct(d['from'], *_ci(by_n[d['from_N']], key))}"
+                 f" → {_pct(d['to'], *_ci(by_n[d['to_N']], key))}, p = {_p(d['p'])}"
+                 for d in fall]
+        out.append(head + "significant decreases (Fisher, Bonferroni over "
+                   f"{test['pairs']} pairs): " + "; ".join(parts) + ": **not monotone**")
+    return "\n".join(out)
+
+
+def _ci(row, key):
+    return row[key + "_low"], row[key + "_high"]
+
+
 #: the generated blocks of README.md and docs/open_questions.md:
 #: <!-- open-questions[:STUDY] [t=T] --> ... <!-- end -->; STUDY monotone (default), model2
-#: (the monotonicity table of that study at t) or reached (`reached_markdown`)
+#: (the monotonicity table of that study at t), answer / answer_model2 (`answer_markdown`),
+#: reached (`reached_markdown` of monotone and model2) or reached_other (the other studies)
 GENERATED = re.compile(r"<!-- open-questions(?::(\w+))?(?: t=(\S+))? -->\n"
                        r"((?:(?!<!--).)*?)<!-- end -->", re.S)
 
@@ -494,10 +543,16 @@ def generated_tables(text: str, work_dir="studies/open_questions") -> str:
 
     def block(m):
         study, t = m.group(1) or "monotone", m.group(2)
-        if study == "reached":
+        if study.startswith("answer"):           # answer (monotone) or answer_model2
+            name = study.partition("_")[2] or "monotone"
+            if t is None:
+                raise ValueError(f"generated block {m.group(0).splitlines()[0]} needs t=")
+            body = answer_markdown(outcomes(name), float(t))
+        elif study in ("reached", "reached_other"):
             names = [n for n in chaos_studies() if os.path.isdir(os.path.join(work_dir, n))
-                     and not n.startswith(("tauc/", "phase/"))]
-            body = reached_markdown({n: outcomes(n) for n in names})
+                     and (n in ("monotone", "model2")) == (study == "reached")]
+            body = reached_markdown({n: outcomes(n) for n in names},
+                                    per_N=study == "reached")
         else:
             if t is None:
                 raise ValueError(f"generated block {m.group(0).splitlines()[0]} needs t=")
