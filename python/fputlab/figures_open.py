@@ -17,6 +17,7 @@ import warnings
 
 import numpy as np
 
+from ._figure import sci
 from .chaos.outcomes import (OrbitOutcomes, cumulative_incidence, monotonicity,
                              outcome_table, outcomes_from_dataset)
 from .recurrence import recurrence_quality, recurrence_time
@@ -42,11 +43,11 @@ def _fraction_axes(ax, rows, key, label, colour, marker, offset=0.0):
 
 def plot_fraction_vs_N(ax, rows_by_t: dict, key: str, title: str):
     """Fraction `key` against N (log axis) at each time of rows_by_t ({t: rows})."""
-    colours = ["#fdae6b", "#e6550d", "#a63603", "#54278f"]
-    markers = ["o", "s", "D", "^"]
+    colours = ["#fdae6b", "#e6550d", "#a63603", "#54278f", "#2171b5"]
+    markers = ["o", "s", "D", "^", "v"]
     for i, (t, rows) in enumerate(sorted(rows_by_t.items())):
-        _fraction_axes(ax, rows, key, f"t = 10$^{{{int(round(math.log10(t)))}}}$",
-                       colours[i % 4], markers[i % 4], offset=0.03 * (i - 1))
+        _fraction_axes(ax, rows, key, f"t = {sci(t)}", colours[i % 5], markers[i % 5],
+                       offset=0.03 * (i - 1))
     ax.set_xscale("log", base=2)
     Ns = sorted({r["N"] for rows in rows_by_t.values() for r in rows})
     ax.set_xticks(Ns, [str(n) for n in Ns])
@@ -124,7 +125,7 @@ def fig_threshold(outcomes_by_fraction: dict, t_eval: float, path, *, tau_c: dic
         ax.minorticks_off()
         ax.set_ylim(-0.03, 1.03)
         ax.set_xlabel("N (and its tau = f tau_c(N))")
-        ax.set_title(f"tau = {f:g} tau_c(N), t = 10$^{{{int(round(math.log10(t_eval)))}}}$")
+        ax.set_title(f"tau = {f:g} tau_c(N), t = {sci(t_eval)}")
         ax.grid(alpha=0.3)
     axes[0, 0].set_ylabel("fraction (Wilson 95 % interval)")
     axes[0, 0].legend(loc="upper left", fontsize=8)
@@ -224,7 +225,7 @@ def fig_phase(outcomes_by_tau: dict, t_eval: float, path, *, tau_c_curve):
     axes[0].set_ylabel("disorder tau (%)")
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles[:1], labels[:1], loc="outside lower center", fontsize=8)
-    fig.suptitle(f"Model 3 at t = 10$^{{{int(round(math.log10(t_eval)))}}}$: fraction of the "
+    fig.suptitle(f"Model 3 at t = {sci(t_eval)}: fraction of the "
                  "realisations in each class")
     return fig, grids
 
@@ -339,7 +340,7 @@ def open_questions(out_dir=".", *, work_dir="studies/open_questions", t_until=No
     figs, numbers = [], {"reached": reached}
 
     mono = loaded["monotone"]
-    t_mono = [t for t in (1e4, 1e5, 1e6, 1e7) if t <= reached["monotone"] * (1 + 1e-12)]
+    t_mono = _times((1e4, 1e5, 1e6, 1e7), reached["monotone"])
     ref = None
     if reference_dir and os.path.isdir(reference_dir):
         ref = outcomes_from_dataset(ChaosStudy(reference_dir).result().to_xarray())
@@ -350,8 +351,7 @@ def open_questions(out_dir=".", *, work_dir="studies/open_questions", t_until=No
     numbers["monotone"] = {"rows": rows, "tests": tests}
     figs.append(save(fig, target(out_dir, "open_monotone.png"), numbers["monotone"]))
 
-    t_m = [t for t in (1e5, 1e6, 1e7) if t <= min(reached["model2"], reached["monotone"]) *
-           (1 + 1e-12)]
+    t_m = _times((1e5, 1e6, 1e7), min(reached["model2"], reached["monotone"]))
     fig, rows = fig_models(mono, loaded["model2"], t_m, None)
     numbers["models"] = rows
     figs.append(save(fig, target(out_dir, "open_models.png"), {"models": rows}))
@@ -374,6 +374,15 @@ def open_questions(out_dir=".", *, work_dir="studies/open_questions", t_until=No
     figs.append(save(fig, target(out_dir, "open_threshold.png"), numbers["threshold"]))
 
     return _finish(figs, numbers, out_dir, rec, loaded, reached)
+
+
+def _times(decades, reached: float) -> list:
+    """The decades up to the time every orbit has reached, and that time itself (a study
+    continued in pieces stops between decades: its latest numbers are shown too)."""
+    out = [t for t in decades if t <= reached * (1 + 1e-12)]
+    if math.isfinite(reached) and (not out or reached > out[-1] * (1 + 1e-9)):
+        out.append(float(reached))
+    return out
 
 
 def _numbers_path(out_dir) -> str:
