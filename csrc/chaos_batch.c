@@ -882,7 +882,8 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
                      : opt->chaos.blowup_stretch == 0 && isfinite(barrier) ? barrier : 0.0;
     const size_t S = (size_t)B->S, dim = (size_t)len * (k + 1) * S;
     ALLOC(B->lat, R);
-    if (fpl_work_create(n, 0, &B->work) != FPL_OK) {
+    if (fpl_work_create(n, 0, &B->work) != FPL_OK ||
+        fpl_work_reserve_vectors(B->work, k) != FPL_OK) {
         fpl_chaos_batch_free(&B);
         return FPL_ERR_NOMEM;
     }
