@@ -21,6 +21,7 @@
 #include "fputlab/chaos_batch.h"
 #include "internal.h"
 #include "model_terms.h"
+#include "chaos_terms.h"
 
 #define LANES 4
 #define MSG_LEN 192
@@ -409,12 +410,19 @@ FPL_HOT static void run_groups_toda(fpl_chaos_batch *B, double *y, const int *gl
 /* ---- renormalisation over slots [0, ns) (chaos.c: norm2, sali_unit, gali_unit) ------------ */
 
 /* The renormalisation works on whole groups with the lane values as generic vectors (vd):
- * element-wise sqrt, division and min are IEEE-exact per lane, so each lane gets the numbers of
- * chaos.c's scalar loops (sums in the same order). */
+ * element-wise sqrt, division and min are IEEE-exact per lane, and the sums are chaos_terms.h's,
+ * which chaos.c runs on one orbit: each lane gets the single orbit's numbers. */
 FPL_INLINE void vsqrt(vd *x)
 {
     for (int w = 0; w < LANES; w++) (*x)[w] = sqrt((*x)[w]);
 }
+#define VSQRT(v) vsqrt(&(v))
+#define AT_WV(r) VC(ROW(wv, r))
+#define AT_QA(r) VC(ROW(qg, r))
+#define AT_QB(r) VC(ROW(qg, len + (r)))
+#define AT_QG(i, r) V(ROW(qg + (size_t)len * (size_t)(i) * LANES, r))
+#define NOTE_ZERO_LANES(rr) \
+    do { for (int w_ = 0; w_ < LANES; w_++) zero[w_] = (rr)[w_] == 0.0 ? 1.0 : zero[w_]; } while (0)
 
 /* nrm[i S + s] = ||w_i|| of slot s, fin[s] = 0 if the slot's orbit is finite (NaN otherwise);
  * slots [0, ns), ns a multiple of LANES. */
@@ -430,10 +438,7 @@ FPL_HOT static void slot_norms(const fpl_chaos_batch *B, const double *y, int ns
         for (int i = 0; i < k; i++) {
             const double *wv = yg + (size_t)2 * n * (i + 1) * LANES;
             vd acc = {0};
-            for (int r = 0; r < 2 * n; r++) {
-                const vd x = VC(ROW(wv, r));
-                acc += x * x;
-            }
+            FPL_SUM_SQUARES(acc, 2 * n, AT_WV);
             vsqrt(&acc);
             V(B->nrm + (size_t)i * S + g * LANES) = acc;
         }
@@ -457,11 +462,7 @@ FPL_HOT static void slot_indices(const fpl_chaos_batch *B, const double *y, int 
         }
         if (k < 2) continue;
         vd dm = {0}, dp = {0};
-        for (int r = 0; r < len; r++) {
-            const vd a = VC(ROW(qg, r)), b = VC(ROW(qg, len + r));
-            dm += (a - b) * (a - b);
-            dp += (a + b) * (a + b);
-        }
+        FPL_SALI_SUMS(dm, dp, len, AT_QA, AT_QB);
         vd mn;
         for (int w = 0; w < LANES; w++) mn[w] = fmin(dm[w], dp[w]);
         vsqrt(&mn);
@@ -469,24 +470,7 @@ FPL_HOT static void slot_indices(const fpl_chaos_batch *B, const double *y, int 
         /* GALI by modified Gram-Schmidt; a zero pivot gives 0 */
         vd prod, zero = {0};
         for (int w = 0; w < LANES; w++) prod[w] = 1.0;
-        for (int i = 0; i < k; i++) {
-            double *qi = qg + (size_t)len * i * LANES;
-            vd rr = {0};
-            for (int r = 0; r < len; r++) {
-                const vd x = VC(ROW(qi, r));
-                rr += x * x;
-            }
-            vsqrt(&rr);
-            prod *= rr;
-            for (int w = 0; w < LANES; w++) zero[w] = rr[w] == 0.0 ? 1.0 : zero[w];
-            for (int r = 0; r < len; r++) V(ROW(qi, r)) /= rr;
-            for (int j = i + 1; j < k; j++) {
-                double *qj = qg + (size_t)len * j * LANES;
-                vd dot = {0};
-                for (int r = 0; r < len; r++) dot += VC(ROW(qi, r)) * VC(ROW(qj, r));
-                for (int r = 0; r < len; r++) V(ROW(qj, r)) -= dot * VC(ROW(qi, r));
-            }
-        }
+        FPL_GALI_MGS(k, len, AT_QG, prod, (vd){0}, VSQRT, NOTE_ZERO_LANES);
         for (int w = 0; w < LANES; w++) B->gali[g * LANES + w] = zero[w] != 0.0 ? 0.0 : prod[w];
     }
 }
