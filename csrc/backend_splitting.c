@@ -16,6 +16,7 @@ static int split_init(fpl_integrator *h)
     if (!d) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (splitting back end)");
     h->data = d;
     int st = fpl_split_run_init(&d->run, h->method->data, h->lat, h->sys->work, h->n_dev);
+    if (!st) st = fpl_work_reserve_vectors(h->sys->work, h->n_dev);
     if (st) return st;
     d->start = malloc(sizeof(double) * (size_t)h->dim);
     if (!d->start) return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory (splitting back end)");

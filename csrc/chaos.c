@@ -8,6 +8,7 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 #include "internal.h"
+#include "chaos_terms.h"
 
 void fpl_chaos_options_init(fpl_chaos_options *opt)
 {
@@ -80,41 +81,35 @@ int fpl_chaos_classify(const fpl_chaos_result *r, const double *t, const double 
     return FPL_OK;
 }
 
+/* The sums of chaos_terms.h on contiguous doubles (chaos_batch.c runs the same on lanes). */
+#define AT_W(r) w[r]
+#define AT_A(r) a[r]
+#define AT_B(r) b[r]
+#define AT_Q(i, r) q[(size_t)(i) * (size_t)len + (size_t)(r)]
+#define SQRT_D(v) ((v) = sqrt(v))
+#define NOTE_ZERO(r) (zero |= (r) == 0.0)
+
 static double norm2(const double *w, long len)
 {
     double s = 0.0;
-    for (long i = 0; i < len; i++) s += w[i] * w[i];
+    FPL_SUM_SQUARES(s, len, AT_W);
     return sqrt(s);
 }
 
 static double sali_unit(const double *a, const double *b, long len)
 {
     double dm = 0.0, dp = 0.0;
-    for (long i = 0; i < len; i++) {
-        dm += (a[i] - b[i]) * (a[i] - b[i]);
-        dp += (a[i] + b[i]) * (a[i] + b[i]);
-    }
+    FPL_SALI_SUMS(dm, dp, len, AT_A, AT_B);
     return sqrt(fmin(dm, dp));
 }
 
-/* GALI_k of k unit vectors stored in q (overwritten): product of the diagonal of R in W = QR,
- * by modified Gram-Schmidt (accurate down to GALI ~ 1e-16, unlike det of the Gram matrix). */
+/* GALI_k of k unit vectors stored in q (overwritten), chaos_terms.h's modified Gram-Schmidt. */
 static double gali_unit(double *q, int k, long len)
 {
     double prod = 1.0;
-    for (int i = 0; i < k; i++) {
-        double *qi = q + (size_t)i * len;
-        double r = norm2(qi, len);
-        prod *= r;
-        if (r == 0.0) return 0.0;
-        for (long c = 0; c < len; c++) qi[c] /= r;
-        for (int j = i + 1; j < k; j++) {
-            double *qj = q + (size_t)j * len, dot = 0.0;
-            for (long c = 0; c < len; c++) dot += qi[c] * qj[c];
-            for (long c = 0; c < len; c++) qj[c] -= dot * qi[c];
-        }
-    }
-    return prod;
+    int zero = 0;
+    FPL_GALI_MGS(k, len, AT_Q, prod, 0.0, SQRT_D, NOTE_ZERO);
+    return zero ? 0.0 : prod;
 }
 
 int fpl_chaos_sali(const double *w1, const double *w2, long len, double *sali)

@@ -21,6 +21,7 @@
 #include "fputlab/chaos_batch.h"
 #include "internal.h"
 #include "model_terms.h"
+#include "chaos_terms.h"
 
 #define LANES 4
 #define MSG_LEN 192
@@ -31,6 +32,7 @@ enum { N_LANE_ACC = 21, N_HEADER = 8 };
 
 struct fpl_chaos_batch {
     int R, n, k, model, S;
+    int ring;                /* periodic boundary: bond 0 joins particle N-1 and 0 */
     long rows;               /* 2N(1 + n_dev) rows of the state */
     double alpha, beta, dt, t0, T, t_first, tau;
     double stretch_limit;    /* blow-up check at each renormalisation (0: none) */
@@ -136,18 +138,35 @@ FPL_INLINE void drift_group(const fpl_chaos_batch *B, grp G, double h, int model
 FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int model, vd *phi, vd *kap)
 {
     const double a = B->alpha, b = B->beta;
-    const int jc = which == 2 ? j - 1 : j, lc = which == 0 ? j : j - 1;
+    /* a ring's bond 0 (which = 0) joins particle N-1 and 0: the interior form with j - 1 = N-1
+     * (its bond N is bond 0, never formed here) */
+    const int wrap = which == 0 && B->ring;
+    const int jc = which == 2 ? j - 1 : j, lc = wrap ? B->n - 1 : which == 0 ? j : j - 1;
     const vd xj = VC(ROW(G.y, jc)), xl = VC(ROW(G.y, lc));
     if (model == FPL_MODEL_HOMOGENEOUS) {
-        const vd d = which == 0 ? xj : which == 1 ? xj - xl : -xl;
+        const vd d = wrap ? xj - xl : which == 0 ? xj : which == 1 ? xj - xl : -xl;
         *phi = FPL_HOM_PHI(d, a, b);
         *kap = FPL_HOM_KAPPA(d, a, b);
+        return;
+    }
+    if (model == FPL_MODEL_TODA) {
+        /* model_toda.c: toda_bonds (expm1 is scalar: lane by lane) */
+        const double two_a = 2.0 * a, inv_2a = 0.5 / a;
+        const vd d = wrap ? xj - xl : which == 0 ? xj : which == 1 ? xj - xl : -xl;
+        vd m;
+        for (int w = 0; w < LANES; w++) m[w] = FPL_TODA_M(d[w], two_a);
+        *phi = FPL_TODA_PHI(m, inv_2a);
+        *kap = FPL_TODA_KAPPA(m);
         return;
     }
     const int plain = model == FPL_MODEL_NONLINEAR;
     const vd cnj = VC(ROW(G.cn, jc)), cnl = VC(ROW(G.cn, lc));
     vd L, R;
-    if (which == 0) {
+    if (wrap) {
+        /* models_periodic.c: bond_forces_periodic */
+        L = plain ? xj - xl : VC(ROW(G.cl, jc)) * xj - VC(ROW(G.cl, lc)) * xl;
+        R = cnj * xj - cnl * xl;
+    } else if (which == 0) {
         L = plain ? xj : VC(ROW(G.cl, jc)) * xj;
         R = cnj * xj;
     } else if (which == 1) {
@@ -162,19 +181,24 @@ FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int mode
 }
 
 /* Tangent bond force dphi_b of one deviation vector (rows dx) (models.c: bond_tangent_*). */
-FPL_INLINE void bond_tangent(grp G, const double *dx, int j, int which, int model, const vd *kp,
-                             vd *out)
+FPL_INLINE void bond_tangent(const fpl_chaos_batch *B, grp G, const double *dx, int j, int which,
+                             int model, const vd *kp, vd *out)
 {
     const vd kap = *kp;
-    const int jc = which == 2 ? j - 1 : j, lc = which == 0 ? j : j - 1;
+    const int wrap = which == 0 && B->ring;
+    const int jc = which == 2 ? j - 1 : j, lc = wrap ? B->n - 1 : which == 0 ? j : j - 1;
     const vd dj = VC(ROW(dx, jc)), dl = VC(ROW(dx, lc));
-    if (model == FPL_MODEL_HOMOGENEOUS) {
-        *out = which == 0 ? kap * dj : which == 1 ? kap * (dj - dl) : -kap * dl;
+    if (model == FPL_MODEL_HOMOGENEOUS || model == FPL_MODEL_TODA) {
+        /* the Toda tangent as model 1's (model_toda.c: toda_bond_tangent; kap * -dl == -kap * dl) */
+        *out = wrap || which == 1 ? kap * (dj - dl) : which == 0 ? kap * dj : -kap * dl;
         return;
     }
     const int plain = model == FPL_MODEL_NONLINEAR;
     const vd cnj = VC(ROW(G.cn, jc)), cnl = VC(ROW(G.cn, lc));
-    if (which == 0)
+    if (wrap)
+        *out = FPL_DPHI(plain ? dj - dl : VC(ROW(G.cl, jc)) * dj - VC(ROW(G.cl, lc)) * dl, kap,
+                        cnj * dj - cnl * dl);
+    else if (which == 0)
         *out = FPL_DPHI_LEFT(plain ? dj : VC(ROW(G.cl, jc)) * dj, kap, cnj, dj);
     else if (which == 1)
         *out = FPL_DPHI(plain ? dj - dl : VC(ROW(G.cl, jc)) * dj - VC(ROW(G.cl, lc)) * dl, kap,
@@ -194,18 +218,24 @@ FPL_INLINE void divergence(grp G, double *p, int i, double h, int model, const v
 /* Bond j (which = 1 interior, 2 the right end with j = N) completes particle j-1's kick; then
  * particle j-1 is drifted (all vectors). */
 FPL_INLINE void kick_drift_particle(const fpl_chaos_batch *B, grp G, int j, int which, double h,
-                                    double hd, int model, int k, vd *fprev, vd *dprev)
+                                    double hd, int model, int k, vd *fprev, vd *dprev,
+                                    const vd *fwrap, const vd *dwrap)
 {
     const int n = B->n;
     double *y = G.y, *p = y + (size_t)n * LANES;
-    vd f, kap;
-    bond(B, G, j, which, model, &f, &kap);
+    /* a ring's bond N is its bond 0, formed before particle 0 was drifted: its stored values
+     * (fwrap, dwrap; models_periodic.c sets phi_N = phi_0 likewise) */
+    const int wrap = which == 2 && B->ring;
+    vd f, kap = {0};   /* not read on the wrap-around bond */
+    if (wrap) f = *fwrap;
+    else bond(B, G, j, which, model, &f, &kap);
     divergence(G, p, j - 1, h, model, &f, fprev);
     *fprev = f;
     for (int m = 1; m <= k; m++) {
         double *dx = y + (size_t)2 * n * m * LANES;
         vd df;
-        bond_tangent(G, dx, j, which, model, &kap, &df);
+        if (wrap) df = dwrap[m - 1];
+        else bond_tangent(B, G, dx, j, which, model, &kap, &df);
         divergence(G, dx + (size_t)n * LANES, j - 1, h, model, &df, &dprev[m - 1]);
         dprev[m - 1] = df;
     }
@@ -226,12 +256,17 @@ FPL_INLINE void kick_drift_group(const fpl_chaos_batch *B, grp G, double h, doub
 {
     const int n = B->n;
     vd *dprev = (vd *)(void *)B->dphi; /* k: dphi of the previous bond, per deviation vector */
-    vd fprev, kap;
+    vd *dwrap = dprev + k;             /* k: a ring's dphi of bond 0 (= bond N) */
+    vd fprev, kap, fwrap;
     bond(B, G, 0, 0, model, &fprev, &kap);
-    for (int m = 1; m <= k; m++)
-        bond_tangent(G, G.y + (size_t)2 * n * m * LANES, 0, 0, model, &kap, &dprev[m - 1]);
-    for (int j = 1; j < n; j++) kick_drift_particle(B, G, j, 1, h, hd, model, k, &fprev, dprev);
-    kick_drift_particle(B, G, n, 2, h, hd, model, k, &fprev, dprev);
+    fwrap = fprev;
+    for (int m = 1; m <= k; m++) {
+        bond_tangent(B, G, G.y + (size_t)2 * n * m * LANES, 0, 0, model, &kap, &dprev[m - 1]);
+        dwrap[m - 1] = dprev[m - 1];
+    }
+    for (int j = 1; j < n; j++)
+        kick_drift_particle(B, G, j, 1, h, hd, model, k, &fprev, dprev, &fwrap, dwrap);
+    kick_drift_particle(B, G, n, 2, h, hd, model, k, &fprev, dprev, &fwrap, dwrap);
 }
 
 /* One step of the scheme (splitting.c: fpl_split_step on the lattice's kinetic split) for one
@@ -293,6 +328,22 @@ FPL_INLINE void check_group(const fpl_chaos_batch *B, grp G, unsigned char *fire
     for (int w = 0; w < LANES; w++) fired[w] |= (unsigned char)bad[w];
 }
 
+/* The criteria of a ring or the Toda lattice, lane by lane through events.c on a copy of each
+ * running lane's orbit (the polynomial fixed-end forms of check_group are not theirs): the
+ * single-orbit numbers, at O(N) per lane every FPL_EVENT_BLOCK steps. */
+static void check_group_any(fpl_chaos_batch *B, grp G, int g, unsigned char *fired)
+{
+    const int n = B->n;
+    for (int w = 0; w < LANES; w++) {
+        const int o = B->orbit_of_slot[g * LANES + w];
+        if (o < 0) continue;
+        double *ly = B->lane_y, v[8];
+        for (int r = 0; r < 2 * n; r++) ly[r] = ROW(G.y, r)[w];
+        fpl_events_eval(B->lat[o], B->work, &B->ev, ly, v);
+        for (int c = 0; c < B->ev.n; c++) fired[w] |= (unsigned char)!(v[c] > 0.0);
+    }
+}
+
 /* Advance one group by nsteps steps of dt; with criteria, check them every FPL_EVENT_BLOCK steps
  * (the lane's block boundaries are those of fpl_integrator_advance from the interval start). */
 FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int g, long nsteps, double dt, int model,
@@ -310,7 +361,8 @@ FPL_INLINE void run_group(fpl_chaos_batch *B, double *y, int g, long nsteps, dou
         done += block;
         unsigned char before[LANES];
         memcpy(before, B->fired + s0, LANES);
-        check_group(B, G, B->fired + s0);
+        if (B->ring || model == FPL_MODEL_TODA) check_group_any(B, G, g, B->fired + s0);
+        else check_group(B, G, B->fired + s0);
         for (int w = 0; w < LANES; w++)
             if (B->fired[s0 + w] && !before[w]) B->fired_step[s0 + w] = done;
     }
@@ -346,15 +398,31 @@ FPL_HOT static void run_groups_nonlinear(fpl_chaos_batch *B, double *y, const in
         for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_NONLINEAR, B->k, check);
 }
 
+FPL_HOT static void run_groups_toda(fpl_chaos_batch *B, double *y, const int *gl, int ng,
+                                    long nsteps, double dt, int check)
+{
+    if (B->k == 2)
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_TODA, 2, check);
+    else
+        for (int g = 0; g < ng; g++) run_group(B, y, gl[g], nsteps, dt, FPL_MODEL_TODA, B->k, check);
+}
+
 /* ---- renormalisation over slots [0, ns) (chaos.c: norm2, sali_unit, gali_unit) ------------ */
 
 /* The renormalisation works on whole groups with the lane values as generic vectors (vd):
- * element-wise sqrt, division and min are IEEE-exact per lane, so each lane gets the numbers of
- * chaos.c's scalar loops (sums in the same order). */
+ * element-wise sqrt, division and min are IEEE-exact per lane, and the sums are chaos_terms.h's,
+ * which chaos.c runs on one orbit: each lane gets the single orbit's numbers. */
 FPL_INLINE void vsqrt(vd *x)
 {
     for (int w = 0; w < LANES; w++) (*x)[w] = sqrt((*x)[w]);
 }
+#define VSQRT(v) vsqrt(&(v))
+#define AT_WV(r) VC(ROW(wv, r))
+#define AT_QA(r) VC(ROW(qg, r))
+#define AT_QB(r) VC(ROW(qg, len + (r)))
+#define AT_QG(i, r) V(ROW(qg + (size_t)len * (size_t)(i) * LANES, r))
+#define NOTE_ZERO_LANES(rr) \
+    do { for (int w_ = 0; w_ < LANES; w_++) zero[w_] = (rr)[w_] == 0.0 ? 1.0 : zero[w_]; } while (0)
 
 /* nrm[i S + s] = ||w_i|| of slot s, fin[s] = 0 if the slot's orbit is finite (NaN otherwise);
  * slots [0, ns), ns a multiple of LANES. */
@@ -370,10 +438,7 @@ FPL_HOT static void slot_norms(const fpl_chaos_batch *B, const double *y, int ns
         for (int i = 0; i < k; i++) {
             const double *wv = yg + (size_t)2 * n * (i + 1) * LANES;
             vd acc = {0};
-            for (int r = 0; r < 2 * n; r++) {
-                const vd x = VC(ROW(wv, r));
-                acc += x * x;
-            }
+            FPL_SUM_SQUARES(acc, 2 * n, AT_WV);
             vsqrt(&acc);
             V(B->nrm + (size_t)i * S + g * LANES) = acc;
         }
@@ -397,11 +462,7 @@ FPL_HOT static void slot_indices(const fpl_chaos_batch *B, const double *y, int 
         }
         if (k < 2) continue;
         vd dm = {0}, dp = {0};
-        for (int r = 0; r < len; r++) {
-            const vd a = VC(ROW(qg, r)), b = VC(ROW(qg, len + r));
-            dm += (a - b) * (a - b);
-            dp += (a + b) * (a + b);
-        }
+        FPL_SALI_SUMS(dm, dp, len, AT_QA, AT_QB);
         vd mn;
         for (int w = 0; w < LANES; w++) mn[w] = fmin(dm[w], dp[w]);
         vsqrt(&mn);
@@ -409,24 +470,7 @@ FPL_HOT static void slot_indices(const fpl_chaos_batch *B, const double *y, int 
         /* GALI by modified Gram-Schmidt; a zero pivot gives 0 */
         vd prod, zero = {0};
         for (int w = 0; w < LANES; w++) prod[w] = 1.0;
-        for (int i = 0; i < k; i++) {
-            double *qi = qg + (size_t)len * i * LANES;
-            vd rr = {0};
-            for (int r = 0; r < len; r++) {
-                const vd x = VC(ROW(qi, r));
-                rr += x * x;
-            }
-            vsqrt(&rr);
-            prod *= rr;
-            for (int w = 0; w < LANES; w++) zero[w] = rr[w] == 0.0 ? 1.0 : zero[w];
-            for (int r = 0; r < len; r++) V(ROW(qi, r)) /= rr;
-            for (int j = i + 1; j < k; j++) {
-                double *qj = qg + (size_t)len * j * LANES;
-                vd dot = {0};
-                for (int r = 0; r < len; r++) dot += VC(ROW(qi, r)) * VC(ROW(qj, r));
-                for (int r = 0; r < len; r++) V(ROW(qj, r)) -= dot * VC(ROW(qi, r));
-            }
-        }
+        FPL_GALI_MGS(k, len, AT_QG, prod, (vd){0}, VSQRT, NOTE_ZERO_LANES);
         for (int w = 0; w < LANES; w++) B->gali[g * LANES + w] = zero[w] != 0.0 ? 0.0 : prod[w];
     }
 }
@@ -586,7 +630,8 @@ static void run_groups(fpl_chaos_batch *B, double *y, int ng, long nsteps, doubl
     if (nv == 0) return;
     if (B->model == FPL_MODEL_HOMOGENEOUS) run_groups_homogeneous(B, y, B->vgroups, nv, nsteps, dt, check);
     else if (B->model == FPL_MODEL_HAMILTONIAN) run_groups_hamiltonian(B, y, B->vgroups, nv, nsteps, dt, check);
-    else run_groups_nonlinear(B, y, B->vgroups, nv, nsteps, dt, check);
+    else if (B->model == FPL_MODEL_NONLINEAR) run_groups_nonlinear(B, y, B->vgroups, nv, nsteps, dt, check);
+    else run_groups_toda(B, y, B->vgroups, nv, nsteps, dt, check);
 }
 
 /* Groups with at least one running lane. */
@@ -662,14 +707,14 @@ static double slot_max_stretch(const fpl_chaos_batch *B, const double *y, int s)
 {
     const int n = B->n;
     const double *x = y + at(B->rows, 0, s);
-    double mx = fabs(x[0]), nonfinite = 0.0;
+    const double xe = x[(size_t)(n - 1) * LANES];
+    double mx = B->ring ? fabs(x[0] - xe) : fabs(x[0]), nonfinite = 0.0;
     for (int j = 0; j + 1 < n; j++) {
         const double d = fabs(x[(size_t)(j + 1) * LANES] - x[(size_t)j * LANES]);
         mx = d > mx ? d : mx;
         nonfinite += x[(size_t)j * LANES] - x[(size_t)j * LANES];
     }
-    const double xe = x[(size_t)(n - 1) * LANES];
-    mx = fabs(xe) > mx ? fabs(xe) : mx;
+    if (!B->ring) mx = fabs(xe) > mx ? fabs(xe) : mx;
     return mx + nonfinite + (xe - xe);
 }
 
@@ -741,13 +786,9 @@ static int check_args(fpl_lattice *const *lattices, int R, const char *method,
     for (int r = 0; r < R; r++) {
         const fpl_lattice *l = lattices[r], *l0 = lattices[0];
         if (!l) return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: NULL handle", r);
-        /* the lane kernels know the fixed-end FPUT-alpha-beta chains only */
-        if (l->boundary != FPL_BOUNDARY_FIXED)
-            return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: boundary: the batch kernel supports "
-                             "fixed ends only (use fpl_chaos for a periodic chain)", r);
-        if (l->ops->model == FPL_MODEL_TODA)
-            return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: model: the batch kernel does not "
-                             "support the Toda lattice (use fpl_chaos)", r);
+        if (l->boundary != l0->boundary)
+            return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: boundary differs from lattices[0]: "
+                             "a batch holds orbits of one boundary condition", r);
         if (l->n != l0->n)
             return fpl_error(NULL, FPL_ERR_ARG, "lattices[%d]: N = %d differs from lattices[0] "
                              "(N = %d): a batch holds orbits of one N", r, l->n, l0->n);
@@ -860,6 +901,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     B->n = n;
     B->k = k;
     B->model = lattices[0]->ops->model;
+    B->ring = lattices[0]->boundary == FPL_BOUNDARY_PERIODIC;
     B->S = (R + LANES - 1) / LANES * LANES;
     B->rows = (long)len * (k + 1);
     B->alpha = lattices[0]->alpha;
@@ -882,7 +924,8 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
                      : opt->chaos.blowup_stretch == 0 && isfinite(barrier) ? barrier : 0.0;
     const size_t S = (size_t)B->S, dim = (size_t)len * (k + 1) * S;
     ALLOC(B->lat, R);
-    if (fpl_work_create(n, 0, &B->work) != FPL_OK) {
+    if (fpl_work_create(n, 0, &B->work) != FPL_OK ||
+        fpl_work_reserve_vectors(B->work, k) != FPL_OK) {
         fpl_chaos_batch_free(&B);
         return FPL_ERR_NOMEM;
     }
@@ -898,7 +941,7 @@ int fpl_chaos_batch_create(fpl_lattice *const *lattices, int R, const char *meth
     ALLOC(B->minv, (size_t)n * S);
     ALLOC(B->phi, (size_t)(n + 1) * LANES);
     ALLOC(B->kap, (size_t)(n + 1) * LANES);
-    ALLOC(B->dphi, (size_t)(n + 1 > k ? n + 1 : k) * LANES);
+    ALLOC(B->dphi, (size_t)(n + 1 > 2 * k ? n + 1 : 2 * k) * LANES);
     ALLOC(B->nrm, (size_t)k * S);
     ALLOC(B->inv, (size_t)k * S);
     ALLOC(B->acc1, S);

@@ -54,11 +54,23 @@ typedef struct fpl_work {
      * steppers with many deviation vectors (each vector then runs the whole step while it stays
      * in cache); NULL for N > FPL_KAPPA_STAGES_MAX_N, where a vector does not stay in cache. */
     double *kappa_stages;
+    int kappa_rows;  /* rows of kappa_stages: FPL_KAPPA_STAGES, more after fpl_work_reserve_vectors */
+    /* 2 x FPL_VEC_TILE x N: one tile of deviation vectors in the vector-inner layout of the
+     * many-vector step (models.c); NULL until fpl_work_reserve_vectors asks for it. */
+    double *tile;
 } fpl_work;
 /* The most kicks a step of a kinetic splitting scheme has (srkn14a6), and the largest N with a
  * kappa_stages array (14 x 8193 doubles, 0.9 MB). */
 #define FPL_KAPPA_STAGES 14
 #define FPL_KAPPA_STAGES_MAX_N 8192
+/* The vector-inner many-vector step (models.c): deviation vectors per tile (two AVX2 registers a
+ * row), the chains it serves (a tile of 2 x 8 x 1024 doubles, 128 kB, stays in L2), the fewest
+ * vectors it takes, and the doubles of kappa rows kept for a group of steps (256 kB). */
+#define FPL_VEC_TILE 8
+#define FPL_VEC_INNER_MAX_N 1024
+#define FPL_VEC_INNER_MIN_DEV 3
+#define FPL_KAPPA_GROUP_DOUBLES 32768
+#define FPL_KAPPA_ROWS_MAX 1024
 
 /* A real DFT of any length m in O(m log m) (fft.c): GSL's mixed radix, or Bluestein's algorithm
  * for lengths with a large prime factor. forward: data (length m) -> GSL's half-complex layout
@@ -78,6 +90,13 @@ enum { FPL_WORK_NO_MODES = 0, FPL_WORK_SINE_MODES = 1, FPL_WORK_FOURIER_MODES = 
  * that mode transform (fpl_modes_energies_work, mode-energy criteria). */
 int fpl_work_create(int n, int modes, fpl_work **out);
 void fpl_work_free(fpl_work **work);
+/* Size the scratch of the vector-inner many-vector step for runs with n_dev deviation vectors
+ * (the kappa rows of a group of steps and one tile): called where a run is created (an
+ * integrator, fpl_splitting_advance, a batch handle), never inside a step. Nothing to do for
+ * chains or vector counts the step does not serve; FPL_ERR_NOMEM (the workspace unchanged) if
+ * out of memory. A workspace without this scratch takes the vector-by-vector step: the same
+ * numbers. */
+int fpl_work_reserve_vectors(fpl_work *work, int n_dev);
 
 /* A model is data: per-particle coefficient arrays plus a table of kernels.
  * Bond b = 0..N joins particle b-1 and b (0-based, particles -1 and N are the fixed ends):

@@ -443,6 +443,123 @@ FPL_HOT static void kick_nonlinear(void *ctx, double *y, double h)
         kick_general_body(c, y, h, 0, 1);
 }
 
+/* ---- the periodic models 2 and 3: fused kicks and steppers -------------------------------- */
+
+/* On the ring bond 0 joins particle N-1 and 0 (x_N = x_0): kick_general_body's interior loops
+ * serve particles 1..N-2 unchanged, and only the two end particles see the wrap-around bond.
+ * The expressions are kick_generic_periodic's (models_periodic.c) with the exact factors 1 of
+ * model 3 (cl, s) left out and model 2's L_b = R_b formed as R_b (cl = cn): bit-identical to it.
+ * N >= 3; shorter rings take fpl_kick_generic_periodic. */
+#define R_WRAP(u) (cn[0] * (u)[0] - cn[n - 1] * (u)[n - 1])
+#define L_WRAP(u) (ham ? R_WRAP(u) : (u)[0] - (u)[n - 1])
+
+FPL_INLINE void kick_general_ring_body(const fpl_lattice_ctx *c, double *y, double h,
+                                       const int ham, const int cubic)
+{
+    const fpl_lattice *lat = c->lat;
+    const int n = lat->n, n_dev = c->n_dev;
+    if (n < 3) {
+        fpl_kick_generic_periodic((void *)c, y, h);
+        return;
+    }
+    const double a = lat->alpha, b = lat->beta;
+    const double *restrict cn = lat->cn, *restrict s = lat->s;
+    const size_t stride = 2 * (size_t)n;
+    const double *x = y;
+    double *p = y + n;
+    /* the wrap-around bond 0 (= bond N), and bonds 1 and N-1 */
+    const double Rw = R_WRAP(x), R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+    const double phiw = PHI_G(L_WRAP(x), Rw), phi1 = PHI_G(L_IN(x, 1), R1);
+    const double phim = PHI_G(L_IN(x, n - 1), Rm);
+    const double kw = KAP_G(Rw), k1 = KAP_G(R1), km = KAP_G(Rm);
+    if (n_dev == 0) {
+        kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
+    } else if (n_dev == 1) {
+        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, NULL, NULL, cn, s, a, b,
+                                   h, ham, cubic, 0);
+    } else if (n_dev == 2) {
+        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, y + 2 * stride,
+                                   y + 2 * stride + n, cn, s, a, b, h, ham, cubic, 1);
+    } else {
+        double *kap = c->work->kappa;
+        for (int i0 = 1; i0 < n - 1; i0 += KICK_BLOCK) {
+            const int i1 = i0 + KICK_BLOCK < n - 1 ? i0 + KICK_BLOCK : n - 1;
+            kick_orbit_general(i0, i1, x, p, cn, s, a, b, h, kap, ham, cubic);
+            for (int m = 1; m <= n_dev; m++) {
+                const double *dx = y + stride * (size_t)m;
+                kick_tangent_general(i0, i1, dx, (double *)dx + n, cn, s, kap, h, ham);
+            }
+        }
+    }
+    KICK_G(p[0], 0, phi1, phiw);
+    KICK_G(p[n - 1], n - 1, phiw, phim);
+    for (int m = 1; m <= n_dev; m++) {
+        const double *dx = y + stride * (size_t)m;
+        double *dp = (double *)dx + n;
+        const double tw = FPL_DPHI(L_WRAP(dx), kw, R_WRAP(dx));
+        const double t1 = DPHI_IN(dx, 1, k1), tm = DPHI_IN(dx, n - 1, km);
+        KICK_G(dp[0], 0, t1, tw);
+        KICK_G(dp[n - 1], n - 1, tw, tm);
+    }
+}
+
+FPL_HOT void fpl_kick_ring_hamiltonian(void *ctx, double *y, double h)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        kick_general_ring_body(c, y, h, 1, 0);
+    else
+        kick_general_ring_body(c, y, h, 1, 1);
+}
+
+FPL_HOT void fpl_kick_ring_nonlinear(void *ctx, double *y, double h)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        kick_general_ring_body(c, y, h, 0, 0);
+    else
+        kick_general_ring_body(c, y, h, 0, 1);
+}
+
+/* n steps with drift and kick inlined: fpl_split_step on fpl_drift_masses (model 2) or
+ * fpl_drift_unit_mass (model 3) and the ring kick above, the same operations in the same order. */
+FPL_INLINE void steps_general_ring_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                        double *y, double dt, long nsteps, const int ham,
+                                        const int cubic)
+{
+    const int st = scheme->n_kicks;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    for (long k = 0; k < nsteps; k++) {
+        for (int i = 0; i < st; i++) {
+            if (ham) drift_masses_body(c, y, da[i] * dt);
+            else drift_unit_mass_body(c, y, da[i] * dt);
+            kick_general_ring_body(c, y, kb[i] * dt, ham, cubic);
+        }
+        if (ham) drift_masses_body(c, y, da[st] * dt);
+        else drift_unit_mass_body(c, y, da[st] * dt);
+    }
+}
+
+FPL_HOT void fpl_steps_ring_hamiltonian(const fpl_splitting *scheme, void *ctx, double *y,
+                                        double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 1, 0);
+    else
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 1, 1);
+}
+
+FPL_HOT void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, double *y,
+                                      double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (c->lat->beta == 0.0)
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 0, 0);
+    else
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 0, 1);
+}
+
 /* ---- many deviation vectors: the step vector by vector ------------------------------------ */
 
 /* With many deviation vectors (GALI_k, the Lyapunov spectrum with k up to 2N) the kick-by-kick
@@ -557,6 +674,192 @@ static int steps_by_vector(const fpl_splitting *scheme, const fpl_lattice_ctx *c
            scheme->n_kicks <= FPL_KAPPA_STAGES;
 }
 
+/* ---- many deviation vectors: vector-inner tiles ------------------------------------------ */
+
+/* The vector-by-vector step above streams each vector along the chain, one vector at a time: a
+ * bond's kappa is re-read once per vector and each tangent kick forms every bond term twice
+ * (once for each of its particles). Here the vectors go in tiles of W (W = 4 or 8, a constant
+ * at every inlined call) copied into the vector-inner layout of work->tile, row j = [dx_j of
+ * the W vectors | dp_j of them], so that each bond's kappa multiplies W contiguous entries (SIMD
+ * along the vectors) and each bond term is formed once and kept for the next row. The drift and
+ * the kick of a stage are one pass over the rows (row j+1 is drifted just before row j's kick,
+ * which needs it: a one-row lag). The orbit runs a group of steps first, keeping kappa of every
+ * kick (work->kappa_rows rows); each tile is then copied in, taken through the whole group and
+ * copied back (the O(N W) copies are paid once per group, up to 168 Yoshida steps at N = 64).
+ * Every element gets the operations of the stage-by-stage kernels in the same order (the same
+ * model_terms.h expressions; a bond term formed once has the value it had formed twice):
+ * bit-identical. Padding lanes of the last tile hold zeros and are not copied back. */
+
+/* Vectors m0..m0+cnt-1 (cnt <= W) of y into the tile, the other lanes zero. */
+FPL_INLINE void tile_load(int n, const double *y, size_t stride, int m0, int cnt,
+                          double *restrict t, const int W)
+{
+    for (int l = 0; l < W; l++) {
+        if (l < cnt) {
+            const double *v = y + stride * (size_t)(m0 + l);
+            for (int j = 0; j < n; j++) {
+                t[2 * W * (size_t)j + l] = v[j];
+                t[2 * W * (size_t)j + W + l] = v[n + j];
+            }
+        } else {
+            for (int j = 0; j < n; j++)
+                t[2 * W * (size_t)j + l] = t[2 * W * (size_t)j + W + l] = 0.0;
+        }
+    }
+}
+
+FPL_INLINE void tile_store(int n, double *y, size_t stride, int m0, int cnt,
+                           const double *restrict t, const int W)
+{
+    for (int l = 0; l < cnt; l++) {
+        double *v = y + stride * (size_t)(m0 + l);
+        for (int j = 0; j < n; j++) {
+            v[j] = t[2 * W * (size_t)j + l];
+            v[n + j] = t[2 * W * (size_t)j + W + l];
+        }
+    }
+}
+
+/* Four vectors' entries of a row as one value: GCC's generic vectors (one AVX2 register in the
+ * x86-64-v3 clone, two SSE2 registers in the baseline one), element-wise IEEE operations, so each
+ * lane computes exactly what the scalar code computes (as chaos_batch.c's lanes). A row of a
+ * tile of W = 4 nv vectors is nv such values of x, then nv of p; the tile is 32-byte aligned. */
+typedef double vec4 __attribute__((vector_size(4 * sizeof(double))));
+#define TILE_ROW(t, j, nv) ((vec4 *)(void *)(t) + 2 * (size_t)(nv) * (size_t)(j))
+
+/* x += h minv p of row j (drift_vector_unit / drift_vector_masses element-wise). */
+FPL_INLINE void tile_drift_row(vec4 *restrict r, double h, const double *restrict minv, int j,
+                               const int model, const int nv)
+{
+    for (int v = 0; v < nv; v++) {
+        if (model == FPL_MODEL_HAMILTONIAN) FPL_DRIFT(r[v], h, minv[j], r[nv + v]);
+        else FPL_DRIFT_UNIT(r[v], h, r[nv + v]);
+    }
+}
+
+FPL_INLINE void tile_drift(int n, double *restrict t, double h, const double *restrict minv,
+                           const int model, const int nv)
+{
+    for (int j = 0; j < n; j++) tile_drift_row(TILE_ROW(t, j, nv), h, minv, j, model, nv);
+}
+
+/* One stage on the tile: drift by hd, then the tangent kick by hk with the curvatures kap of
+ * bonds 0..N. f0 carries the tangent bond force of row j's left bond (kick_tangent_ends /
+ * kick_tangent_ends_general's wall terms at the ends, the interior bonds' terms of
+ * kick_tangent_homogeneous / kick_tangent_general in between). */
+FPL_INLINE void tile_stage(int n, double *restrict t, const double *restrict kap,
+                           const fpl_lattice *lat, double hd, double hk, const int model,
+                           const int nv)
+{
+    const double *restrict cn = lat->cn, *restrict s = lat->s, *restrict minv = lat->minv;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    vec4 f0[2];
+    vec4 *restrict r0 = TILE_ROW(t, 0, nv);
+    tile_drift_row(r0, hd, minv, 0, model, nv);
+    for (int v = 0; v < nv; v++) {
+        const vec4 u = r0[v];
+        if (model == FPL_MODEL_HOMOGENEOUS) f0[v] = kap[0] * u;
+        else f0[v] = FPL_DPHI_LEFT(ham ? cn[0] * u : u, kap[0], cn[0], u);
+    }
+    for (int j = 0; j + 1 < n; j++) {
+        vec4 *restrict a = TILE_ROW(t, j, nv), *restrict b = TILE_ROW(t, j + 1, nv);
+        tile_drift_row(b, hd, minv, j + 1, model, nv);
+        const double k = kap[j + 1];
+        for (int v = 0; v < nv; v++) {
+            vec4 f1;
+            if (model == FPL_MODEL_HOMOGENEOUS) {
+                f1 = k * (b[v] - a[v]);
+            } else {
+                const vec4 R = cn[j + 1] * b[v] - cn[j] * a[v];
+                f1 = FPL_DPHI(ham ? R : b[v] - a[v], k, R);
+            }
+            if (ham) FPL_KICK(a[nv + v], hk, s[j], f1, f0[v]);
+            else FPL_KICK_UNIT(a[nv + v], hk, f1, f0[v]);
+            f0[v] = f1;
+        }
+    }
+    vec4 *restrict r = TILE_ROW(t, n - 1, nv);
+    for (int v = 0; v < nv; v++) {
+        const vec4 u = r[v];
+        vec4 fn;
+        if (model == FPL_MODEL_HOMOGENEOUS) fn = -kap[n] * u;
+        else fn = FPL_DPHI_RIGHT(ham ? -cn[n - 1] * u : -u, kap[n], cn[n - 1], u);
+        if (ham) FPL_KICK(r[nv + v], hk, s[n - 1], fn, f0[v]);
+        else FPL_KICK_UNIT(r[nv + v], hk, fn, f0[v]);
+    }
+}
+
+/* n steps, a group of steps of the orbit at a time, then each tile through the group (N >= 3,
+ * work->tile present, work->kappa_rows >= scheme->n_kicks). */
+FPL_INLINE void steps_vector_inner_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                        double *y, double dt, long nsteps, const int model,
+                                        const int cubic, const int nv)
+{
+    const int W = 4 * nv;
+    const fpl_lattice *lat = c->lat;
+    const int st = scheme->n_kicks, n = lat->n, n_dev = c->n_dev;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    double *K = c->work->kappa_stages, *t = c->work->tile;
+    const size_t stride = 2 * (size_t)n, rows = (size_t)n + 1;
+    const long group = c->work->kappa_rows / st;
+    for (long k0 = 0; k0 < nsteps; k0 += group) {
+        const long g = nsteps - k0 < group ? nsteps - k0 : group;
+        for (long k = 0; k < g; k++) {
+            for (int i = 0; i < st; i++) {
+                drift_vector(lat, y, da[i] * dt, model);
+                kick_orbit_kappa(lat, y, kb[i] * dt, K + rows * (size_t)(k * st + i), model,
+                                 cubic);
+            }
+            drift_vector(lat, y, da[st] * dt, model);
+        }
+        for (int m0 = 1; m0 <= n_dev; m0 += W) {
+            const int cnt = n_dev + 1 - m0 < W ? n_dev + 1 - m0 : W;
+            tile_load(n, y, stride, m0, cnt, t, W);
+            for (long k = 0; k < g; k++) {
+                for (int i = 0; i < st; i++)
+                    tile_stage(n, t, K + rows * (size_t)(k * st + i), lat, da[i] * dt,
+                               kb[i] * dt, model, nv);
+                tile_drift(n, t, da[st] * dt, lat->minv, model, nv);
+            }
+            tile_store(n, y, stride, m0, cnt, t, W);
+        }
+    }
+}
+
+/* Whether the vector-inner step applies: from FPL_VEC_INNER_MIN_DEV vectors, N = 3 to
+ * FPL_VEC_INNER_MAX_N, with the scratch fpl_work_reserve_vectors sized. */
+static int steps_vector_inner(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
+{
+    return c->n_dev >= FPL_VEC_INNER_MIN_DEV && c->lat->n >= 3 &&
+           c->lat->n <= FPL_VEC_INNER_MAX_N && c->work->tile &&
+           scheme->n_kicks <= c->work->kappa_rows;
+}
+
+/* The many-vector steppers of one model, instantiated for beta = 0 or not and tiles of 4 (up to
+ * 4 vectors: no padding lanes) or 8. Returns 0 (nothing done) where neither many-vector step
+ * applies. */
+FPL_INLINE int steps_many_vectors(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                  double *y, double dt, long nsteps, const int model)
+{
+    const int cubic = c->lat->beta != 0.0;
+    if (steps_vector_inner(scheme, c)) {
+        if (c->n_dev <= 4) {
+            if (cubic) steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 1, 1);
+            else steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 0, 1);
+        } else {
+            if (cubic) steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 1, 2);
+            else steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 0, 2);
+        }
+        return 1;
+    }
+    if (steps_by_vector(scheme, c)) {
+        if (cubic) steps_by_vector_body(scheme, c, y, dt, nsteps, model, 1);
+        else steps_by_vector_body(scheme, c, y, dt, nsteps, model, 0);
+        return 1;
+    }
+    return 0;
+}
+
 /* ---- the fused steppers ---------------------------------------------------------------- */
 
 /* n steps of the scheme, drift and kick inlined (fpl_split_system.steps): the same operations in
@@ -579,11 +882,9 @@ FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, do
                                       double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
-    if (steps_by_vector(scheme, c) && c->lat->beta == 0.0)
-        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0);
-    else if (steps_by_vector(scheme, c))
-        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1);
-    else if (c->lat->beta == 0.0)
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
+        return;
+    if (c->lat->beta == 0.0)
         steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
     else
         steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
@@ -612,11 +913,9 @@ FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, do
                                       double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
-    if (steps_by_vector(scheme, c) && c->lat->beta == 0.0)
-        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0);
-    else if (steps_by_vector(scheme, c))
-        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1);
-    else if (c->lat->beta == 0.0)
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
+        return;
+    if (c->lat->beta == 0.0)
         steps_general_body(scheme, c, y, dt, nsteps, 1, 0);
     else
         steps_general_body(scheme, c, y, dt, nsteps, 1, 1);
@@ -626,11 +925,9 @@ FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, doub
                                     double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
-    if (steps_by_vector(scheme, c) && c->lat->beta == 0.0)
-        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0);
-    else if (steps_by_vector(scheme, c))
-        steps_by_vector_body(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1);
-    else if (c->lat->beta == 0.0)
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
+        return;
+    if (c->lat->beta == 0.0)
         steps_general_body(scheme, c, y, dt, nsteps, 0, 0);
     else
         steps_general_body(scheme, c, y, dt, nsteps, 0, 1);

@@ -35,6 +35,16 @@ double fpl_any_energy_plain(const fpl_lattice *lat, const double *y);
 void fpl_drift_unit_mass(void *ctx, double *y, int stage, double h);
 void fpl_drift_masses(void *ctx, double *y, int stage, double h);
 const fpl_model_ops *fpl_model_ops_periodic(int model);
+/* models_periodic.c: the bond-array ring kick of models 2 and 3 (any N >= 2). */
+void fpl_kick_generic_periodic(void *ctx, double *y, double h);
+/* models.c: the fused ring kicks and steppers of models 2 and 3 (N >= 3; shorter rings go to
+ * fpl_kick_generic_periodic). */
+void fpl_kick_ring_hamiltonian(void *ctx, double *y, double h);
+void fpl_kick_ring_nonlinear(void *ctx, double *y, double h);
+void fpl_steps_ring_hamiltonian(const fpl_splitting *scheme, void *ctx, double *y, double dt,
+                                long nsteps);
+void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, double *y, double dt,
+                              long nsteps);
 
 /* model_toda.c: coefficients (all 1) and the kicks, p += h F(x), dp += h J(x) dx. */
 void fpl_toda_coefficients(double v, double *cl, double *cn, double *s, double *minv);

@@ -76,7 +76,7 @@ FPL_INLINE void add_divergence(int n, double h, const double *restrict s,
         FPL_KICK(p[i], h, s[i], phi[i + 1], phi[i]);
 }
 
-FPL_HOT static void kick_generic_periodic(void *ctx, double *y, double h)
+FPL_HOT void fpl_kick_generic_periodic(void *ctx, double *y, double h)
 {
     const fpl_lattice_ctx *c = ctx;
     const fpl_lattice *lat = c->lat;
@@ -207,11 +207,13 @@ static const fpl_model_ops periodic_table[] = {
     {FPL_MODEL_HOMOGENEOUS, "homogeneous", NULL, fpl_drift_unit_mass, kick_homogeneous_periodic,
      steps_homogeneous_periodic, fpl_any_energy_hamiltonian, FPL_BOUNDARY_PERIODIC,
      fpl_any_force, fpl_any_tangent, fpl_any_jacobian_entries},
-    {FPL_MODEL_HAMILTONIAN, "hamiltonian", NULL, fpl_drift_masses, kick_generic_periodic, NULL,
-     fpl_any_energy_hamiltonian, FPL_BOUNDARY_PERIODIC, fpl_any_force, fpl_any_tangent,
-     fpl_any_jacobian_entries},
-    {FPL_MODEL_NONLINEAR, "nonlinear", NULL, fpl_drift_unit_mass, kick_generic_periodic, NULL,
-     fpl_any_energy_plain, FPL_BOUNDARY_PERIODIC, fpl_any_force, fpl_any_tangent,
+    /* models 2 and 3: the fused ring kicks and steppers of models.c (bit-identical to
+     * fpl_kick_generic_periodic, which serves rings of N < 3) */
+    {FPL_MODEL_HAMILTONIAN, "hamiltonian", NULL, fpl_drift_masses, fpl_kick_ring_hamiltonian,
+     fpl_steps_ring_hamiltonian, fpl_any_energy_hamiltonian, FPL_BOUNDARY_PERIODIC,
+     fpl_any_force, fpl_any_tangent, fpl_any_jacobian_entries},
+    {FPL_MODEL_NONLINEAR, "nonlinear", NULL, fpl_drift_unit_mass, fpl_kick_ring_nonlinear,
+     fpl_steps_ring_nonlinear, fpl_any_energy_plain, FPL_BOUNDARY_PERIODIC, fpl_any_force, fpl_any_tangent,
      fpl_any_jacobian_entries},
     {FPL_MODEL_TODA, "toda", NULL, fpl_drift_unit_mass, fpl_toda_kick_periodic, NULL,
      fpl_any_energy_hamiltonian, FPL_BOUNDARY_PERIODIC, fpl_any_force, fpl_any_tangent,

@@ -127,7 +127,11 @@ int fpl_splitting_advance(const fpl_splitting *scheme, const fpl_lattice *lattic
         return fpl_error(NULL, FPL_ERR_ARG, "y[%ld] is not finite (%g)", bad, y[bad]);
     fpl_work *work = NULL;
     int st = fpl_work_create(lattice->n, 0, &work);
-    if (st) return st;
+    if (!st) st = fpl_work_reserve_vectors(work, n_dev);
+    if (st) {
+        fpl_work_free(&work);
+        return st;
+    }
     fpl_split_run run;
     st = fpl_split_run_init(&run, scheme, lattice, work, n_dev);
     if (!st) {

@@ -18,6 +18,7 @@ int fpl_work_create(int n, int modes, fpl_work **out)
     w->ek = xcalloc(nn);
     if (n <= FPL_KAPPA_STAGES_MAX_N)   /* scratch, written before it is read: not zeroed */
         w->kappa_stages = malloc(sizeof(double) * FPL_KAPPA_STAGES * (nn + 1));
+    w->kappa_rows = w->kappa_stages ? FPL_KAPPA_STAGES : 0;
     if (!w->phi || !w->kappa || !w->dphi || !w->fft || !w->ek ||
         (n <= FPL_KAPPA_STAGES_MAX_N && !w->kappa_stages)) {
         fpl_work_free(&w);
@@ -34,6 +35,35 @@ int fpl_work_create(int n, int modes, fpl_work **out)
     return FPL_OK;
 }
 
+int fpl_work_reserve_vectors(fpl_work *w, int n_dev)
+{
+    const int n = w->n;
+    if (n < 3 || n > FPL_VEC_INNER_MAX_N || n_dev < FPL_VEC_INNER_MIN_DEV) return FPL_OK;
+    const size_t rows_n = (size_t)n + 1;
+    /* as many kicks' kappa as fit in FPL_KAPPA_GROUP_DOUBLES: the tiles' transposes are paid
+     * once per group of steps */
+    size_t rows = FPL_KAPPA_GROUP_DOUBLES / rows_n;
+    if (rows < FPL_KAPPA_STAGES) rows = FPL_KAPPA_STAGES;
+    if (rows > FPL_KAPPA_ROWS_MAX) rows = FPL_KAPPA_ROWS_MAX;
+    if (!w->tile) {
+        /* 32-byte aligned: its rows are read as AVX2 vectors (the size, 128 N bytes, is a
+         * multiple of the alignment as aligned_alloc asks) */
+        w->tile = aligned_alloc(32, sizeof(double) * 2 * FPL_VEC_TILE * (size_t)n);
+        if (!w->tile)
+            return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory sizing a workspace for %d "
+                             "deviation vectors", n_dev);
+    }
+    if ((size_t)w->kappa_rows < rows) {
+        double *k = realloc(w->kappa_stages, sizeof(double) * rows * rows_n);
+        if (!k)
+            return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory sizing a workspace for %d "
+                             "deviation vectors", n_dev);
+        w->kappa_stages = k;
+        w->kappa_rows = (int)rows;
+    }
+    return FPL_OK;
+}
+
 void fpl_work_free(fpl_work **work)
 {
     if (!work || !*work) return;
@@ -44,6 +74,7 @@ void fpl_work_free(fpl_work **work)
     free(w->fft);
     free(w->ek);
     free(w->kappa_stages);
+    free(w->tile);
     fpl_rdft_free(&w->rdft);
     free(w);
     *work = NULL;

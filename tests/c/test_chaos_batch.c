@@ -170,6 +170,63 @@ static void test_agreement(void)
     }
 }
 
+/* Rings (models 1-3) and the Toda lattice (fixed ends and ring): every lane against the
+ * single-orbit run, which steps them through models_periodic.c / model_toda.c. N = 5 (padding
+ * lanes) and 16, two deviation vectors, and three with given w0 on a ring. */
+static fpl_lattice *ring_or_toda(int n, int model, int boundary, double tau, unsigned long seed)
+{
+    double *v = malloc(sizeof(double) * (size_t)n);
+    fpl_lattice *lat = NULL;
+    if (model == FPL_MODEL_HAMILTONIAN || model == FPL_MODEL_NONLINEAR)
+        CHECK_OK(fpl_disorder_draw(FPL_DISORDER_GAUSSIAN, tau, seed, n, v));
+    CHECK_OK(fpl_lattice_create_ex(n, model == FPL_MODEL_TODA ? 0.5 : 0.25, 0.0, model,
+                                   model == FPL_MODEL_HAMILTONIAN || model == FPL_MODEL_NONLINEAR
+                                       ? v : NULL, boundary, &lat));
+    free(v);
+    return lat;
+}
+
+static void test_rings_and_toda(void)
+{
+    fpl_chaos_batch_options bo;
+    fpl_chaos_batch_options_init(&bo);
+    bo.chaos.n_samples = NS;
+    bo.chaos.t_end = 1000.0;
+    static const int models[] = {FPL_MODEL_HOMOGENEOUS, FPL_MODEL_HAMILTONIAN,
+                                 FPL_MODEL_NONLINEAR, FPL_MODEL_TODA, FPL_MODEL_TODA};
+    static const int bounds[] = {FPL_BOUNDARY_PERIODIC, FPL_BOUNDARY_PERIODIC,
+                                 FPL_BOUNDARY_PERIODIC, FPL_BOUNDARY_PERIODIC, FPL_BOUNDARY_FIXED};
+    for (int c = 0; c < 5; c++)
+        for (int in = 0; in < 2; in++) {
+            const int n = in ? 16 : 5, R = 5;
+            fpl_lattice *l[5];
+            for (int r = 0; r < R; r++)
+                l[r] = ring_or_toda(n, models[c], bounds[c], 10.0, (unsigned long)r + 3);
+            /* a random state of small energy per orbit; on the disordered rings a translation
+             * stretches the bonds (R_b = (cn_b - cn_{b-1}) x), and the drift of the centre runs
+             * them over the barrier from t ~ 15 on: t_end = 10 there */
+            double *y0 = malloc(sizeof(double) * 2 * (size_t)n * R);
+            for (int i = 0; i < 2 * n * R; i++) y0[i] = 0.4 * (check_uniform() - 0.5);
+            bo.chaos.t_end = c == 1 || c == 2 ? 10.0 : 400.0;
+            char what[64];
+            snprintf(what, sizeof what, "%s model %d N=%d", bounds[c] ? "ring" : "fixed",
+                     models[c], n);
+            compare_with_single(l, R, c % 2 ? "srkn14a6" : "yoshida4", c % 2 ? 0.1 : 0.01, y0,
+                                NULL, &bo, 1e-12, what);
+            if (c == 2 && in) {   /* GALI_3 with given w0 on a ring */
+                double *w0 = malloc(sizeof(double) * (size_t)R * 3 * 2 * n);
+                for (int i = 0; i < R * 3 * 2 * n; i++) w0[i] = check_uniform();
+                bo.chaos.n_dev = 3;
+                compare_with_single(l, R, "aba864", 0.05, y0, w0, &bo, 1e-12,
+                                    "ring model 3 N=16 aba864 n_dev=3 w0");
+                bo.chaos.n_dev = 2;
+                free(w0);
+            }
+            free(y0);
+            for (int r = 0; r < R; r++) fpl_lattice_free(&l[r]);
+        }
+}
+
 /* The known chaotic orbit (homogeneous N = 8, mode 1 at amplitude 4) next to a regular one: it
  * reaches SALI < 1e-8 at the time the single-orbit run finds, and stops with stop_when_chaotic. */
 static void test_chaotic_orbit(void)
@@ -615,6 +672,7 @@ static void test_methods(void)
 int main(void)
 {
     test_agreement();
+    test_rings_and_toda();
     test_chaotic_orbit();
     test_early_exit();
     test_blowup();

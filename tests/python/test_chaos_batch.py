@@ -147,3 +147,54 @@ def test_criteria_fire_as_in_a_single_orbit_blowup_run(kind, factor):
             assert abs(res.params["t_blowup"] - ref.time) < 1e-9 * max(ref.time, 1.0)
         else:
             assert res.completed and res.t_final == 300.0
+
+
+@pytest.mark.parametrize("model,boundary", [("homogeneous", "periodic"),
+                                            ("hamiltonian", "periodic"),
+                                            ("nonlinear", "periodic"),
+                                            ("toda", "fixed"), ("toda", "periodic")])
+def test_rings_and_toda_lanes_match_single_orbit_runs(model, boundary):
+    """Periodic chains and the Toda lattice run in the lanes (issue 22): each lane's mLE, SALI,
+    GALI and MEGNO are those of fputlab.chaos.lyapunov on the same orbit. The disordered rings
+    drift over the barrier from t ~ 15 on (a translation stretches their bonds), so T = 10."""
+    disordered = model in ("hamiltonian", "nonlinear")
+    lats = [fputlab.Lattice(8, 0.5 if model == "toda" else 0.25, model, boundary=boundary,
+                            tau=10.0 if disordered else 0.0, seed=s if disordered else None)
+            for s in range(1, 6)]
+    rng = np.random.default_rng(11)
+    y0 = 0.2 * rng.standard_normal((5, 16))
+    T = 10.0 if disordered else 300.0
+    batch = lyapunov_batch(lats, T, y0=y0, n_samples=20)
+    for r, (lat, b) in enumerate(zip(lats, batch)):
+        s = chaos.lyapunov(lat, T, y0=y0[r], n_samples=20)
+        np.testing.assert_array_equal(b.t, s.t)
+        _same(b.mle, s.mle)
+        _same(b.sali, s.sali)
+        _same(b.gali, s.gali)
+        _same(b.megno, s.megno)
+        assert b.completed and b.steps == s.steps and b.t_final == s.t_final == T
+
+
+@pytest.mark.parametrize("model", ["homogeneous", "toda"])
+def test_criteria_on_rings_fire_as_in_a_single_orbit_blowup_run(model):
+    """A ring's criteria (the stretch with the wrap-around bond; the displacement, which the
+    ring's drifting centre makes grow) are evaluated lane by lane as events.c does: each lane
+    stops where fputlab.blowup.blowup_time puts the event (some lanes fire, some do not)."""
+    lat = fputlab.Lattice(12, 0.5 if model == "toda" else 0.25, model, boundary="periodic")
+    rng = np.random.default_rng(3)
+    y0 = 0.3 * rng.standard_normal((4, 24))
+    fired = 0
+    for kind in ("stretch", "displacement"):
+        value = {"displacement": lambda y: np.abs(y[:12]).max(),
+                 "stretch": lambda y: np.abs(np.diff(np.r_[y[11], y[:12]])).max()}[kind]
+        crit = [(kind, 1.05 * max(value(y) for y in y0))]
+        batch = lyapunov_batch([lat] * 4, 200.0, y0=y0, criteria=crit, n_samples=10)
+        for r, res in enumerate(batch):
+            ref = fputlab.blowup.blowup_time(lat, 200.0, y0=y0[r], criteria=crit)
+            assert res.params["blew_up"] == ref.blew_up
+            fired += ref.blew_up
+            if ref.blew_up:
+                assert abs(res.params["t_blowup"] - ref.time) < 1e-9 * max(ref.time, 1.0)
+            else:
+                assert res.completed
+    assert 0 < fired < 8

@@ -234,10 +234,11 @@ def test_unsupported_combinations_refuse_with_a_message():
     toda = Lattice(8, 0.25, "toda")
     with pytest.raises(ValueError, match="model"):
         fputlab.Integrator(toda, toda.mode_state(1, 0.1), method="aba864-harmonic")
+    # the batch kernel takes rings and the Toda lattice (issue 22), one boundary and model a batch
     with pytest.raises(ValueError, match="boundary"):
-        fputlab.chaos.lyapunov_batch([ring, ring], 1.0)
+        fputlab.chaos.lyapunov_batch([ring, Lattice(8, 0.25)], 1.0)
     with pytest.raises(ValueError, match="model"):
-        fputlab.chaos.lyapunov_batch([toda, toda], 1.0)
+        fputlab.chaos.lyapunov_batch([toda, Lattice(8, 0.25)], 1.0)
 
 
 @pytest.mark.parametrize("model", ALL_MODELS)
