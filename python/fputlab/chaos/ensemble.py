@@ -240,6 +240,7 @@ class ChaosKind(StudyKind):
                         # saved before it continue (chaos_accumulators)
     dims = ("N", "tau", "seed")
     batch = 4
+    resumable = True
     variables = {
         "orbit_class": ((), str, "", "class of the orbit at t_end (chaotic, regular, blow-up, "
                                      "undecided)"),
@@ -325,6 +326,10 @@ class ChaosKind(StudyKind):
 
     def cost(self, coords, settings):
         return float(coords["N"])
+
+    def quantum(self, settings):
+        # a call cut short ends on a renormalisation (and a step of the fixed-step methods)
+        return max(settings["renorm_interval"], settings["dt"] or 0.0)
 
     def run(self, settings, coords, previous, t_end):
         if len(coords) == 1 or settings["method"] not in BATCH_METHODS:

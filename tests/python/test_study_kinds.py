@@ -1,0 +1,176 @@
+"""The "blowup" and "run" study kinds of the study engine and its calls cut short
+(max_call_seconds): each task holds what blowup_time / integrate compute when called directly,
+a study run to t1 and then to t2 holds the numbers of one run straight to t2 (bit for bit: the
+fixed-step methods), and a study whose calls are cut into many pieces holds the numbers of one
+call per task."""
+import math
+
+import numpy as np
+import pytest
+
+import fputlab
+from fputlab import Lattice
+from fputlab.blowup import blowup_sweep, blowup_time, realisation_tau_c
+from fputlab.engine import run_study, wilson_interval
+
+xr = pytest.importorskip("xarray")
+
+# tau = 50 % makes some of these tiny lattices blow up before t = 400, tau = 10 % none
+GRID = {"N": [8, 16], "tau": [10.0, 50.0], "seed": [1, 2, 3]}
+
+
+def _same(a, b, skip=()):
+    """Two labelled results hold the same numbers, bit for bit (NaN where NaN)."""
+    assert set(a.data_vars) == set(b.data_vars) and a.sizes == b.sizes
+    for v in a.data_vars:
+        if v in skip:
+            continue
+        x, y = a[v].values, b[v].values
+        if x.dtype.kind == "f":
+            assert np.array_equal(x, y, equal_nan=True), v
+        else:
+            assert np.array_equal(x, y), v
+
+
+# ---- blowup -----------------------------------------------------------------------------------
+
+def test_blowup_study_holds_blowup_times_of_direct_runs():
+    r = run_study("blowup", GRID, {}, 400.0, workers=2)
+    ds = r.to_xarray()
+    assert 0 < int(ds["blew_up"].sum()) < 12          # both outcomes
+    for N in GRID["N"]:
+        for tau in GRID["tau"]:
+            for seed in GRID["seed"]:
+                o = ds.sel(N=N, tau=tau, seed=seed)
+                ref = blowup_time(Lattice(N, 0.25, "nonlinear", tau=tau, seed=seed), 400.0)
+                assert bool(o["blew_up"]) == ref.blew_up
+                assert float(o["t_reached"]) == ref.t_reached
+                assert str(o["criterion"].values) == ref.criterion
+                assert (math.isnan(ref.time) and math.isnan(float(o["time"]))) or \
+                    float(o["time"]) == ref.time
+                assert float(o["tau_c"]) == realisation_tau_c(N, seed, 0.25)
+    # labelled: CF long_name everywhere, units where there are any
+    assert all("long_name" in ds[v].attrs for v in ds.data_vars)
+    assert ds["tau"].attrs["units"] == "percent" and ds["tau_c"].attrs["units"] == "percent"
+    assert ds["criterion"].dtype.kind in "UO"
+    # the summary: counts per (N, tau), the probability and its Wilson 95 % interval
+    rows = r.summary()
+    assert len(rows) == 4
+    for row in rows:
+        k = int(ds["blew_up"].sel(N=row["N"], tau=row["tau"]).sum())
+        assert (row["n"], row["blew_up"]) == (3, k) and row["probability"] == k / 3
+        assert (row["probability_low"], row["probability_high"]) == wilson_interval(k, 3)
+
+
+def test_blowup_study_continues_bit_for_bit(tmp_path):
+    straight = run_study("blowup", GRID, {}, 400.0, workers=2).to_xarray()
+    first = run_study("blowup", GRID, {}, 150.0, workers=2, work_dir=tmp_path)
+    n_done = int(first.to_xarray()["blew_up"].sum())
+    more = run_study("blowup", GRID, {}, 400.0, workers=2, work_dir=tmp_path)
+    assert (more.reused, more.resumed) == (n_done, 12 - n_done)
+    _same(straight, more.to_xarray())
+    with xr.open_dataset(tmp_path / "result.nc") as disk:
+        _same(straight, disk.load())
+
+
+def test_blowup_sweep_on_the_engine_keeps_its_study(tmp_path):
+    kw = dict(Ns=[8], realisations=3, t_end=300.0, workers=2)
+    out = blowup_sweep([10.0, 50.0], work_dir=tmp_path, **kw)
+    study = out["study"]
+    assert study.computed == 6 and study.work_dir == str(tmp_path)
+    assert out["probability"].shape == (2, 1)
+    for row in study.summary():
+        i = [10.0, 50.0].index(row["tau"])
+        assert out["probability"][i, 0] == row["probability"]
+    again = blowup_sweep([10.0, 50.0], work_dir=tmp_path, **kw)
+    assert again["study"].reused == 6
+    np.testing.assert_array_equal(np.array(again["records"], float), np.array(out["records"], float))
+    with pytest.raises(ValueError, match="another study"):
+        blowup_sweep([20.0], work_dir=tmp_path, **kw)
+
+
+@pytest.mark.parametrize("settings, name", [
+    ({"criteria": [("wobble", 1.0)]}, "wobble"),
+    ({"method": "euler"}, "euler"),
+    ({"dt": -1.0}, "dt"),
+    ({"colour": 1}, "colour"),
+    ({"y0": [0.0, 1.0]}, "y0"),
+])
+def test_blowup_study_names_a_bad_setting(settings, name):
+    with pytest.raises((ValueError, TypeError), match=name):
+        run_study("blowup", GRID, settings, 10.0)
+
+
+# ---- run --------------------------------------------------------------------------------------
+
+RUN_GRID = {"N": [8, 16], "tau": [0.0, 50.0], "seed": [1, 3]}
+RUN_SETTINGS = {"sample_every": 5.0, "dt": 0.05}
+
+
+def test_run_study_holds_the_samples_of_integrate():
+    ds = run_study("run", RUN_GRID, RUN_SETTINGS, 300.0, workers=2).to_xarray()
+    assert ds.sizes["mode"] == 16 and ds.sizes["sample"] == 61
+    np.testing.assert_array_equal(ds["t"].values, 5.0 * np.arange(61))
+    stopped = 0
+    for N in RUN_GRID["N"]:
+        for tau in RUN_GRID["tau"]:
+            for seed in RUN_GRID["seed"]:
+                o = ds.sel(N=N, tau=tau, seed=seed)
+                lat = Lattice(N, 0.25, "nonlinear", tau=tau, seed=seed)
+                lower, upper = lat.barrier
+                ref = fputlab.integrate(lat, 300.0, dt=0.05, sample_every=5.0,
+                                        stop_on=[("stretch", min(-lower, upper))],
+                                        on_failure="return")
+                k = ref.t.size
+                np.testing.assert_array_equal(o["E"].values[:k, :N], ref.mode_energies)
+                np.testing.assert_array_equal(o["energy"].values[:k], ref.energy)
+                assert np.all(np.isnan(o["E"].values[k:])) and np.all(np.isnan(o["E"].values[:, N:]))
+                assert bool(o["blew_up"]) == (ref.event is not None or not ref.completed)
+                assert float(o["t_reached"]) == (ref.t[-1] if o["blew_up"] else 300.0)
+                stopped += bool(o["blew_up"])
+    assert 0 < stopped < 8                   # a blow-up ends a run, the others go on
+    # the total energy of the ordered chain is conserved to the scheme's accuracy
+    e = ds["energy"].sel(tau=0.0).values
+    assert np.nanmax(np.abs(e / e[..., :1] - 1)) < 1e-4
+
+
+def test_run_study_continues_bit_for_bit(tmp_path):
+    straight = run_study("run", RUN_GRID, RUN_SETTINGS, 300.0, workers=2).to_xarray()
+    run_study("run", RUN_GRID, RUN_SETTINGS, 120.0, workers=2, work_dir=tmp_path)
+    more = run_study("run", RUN_GRID, RUN_SETTINGS, 300.0, workers=2, work_dir=tmp_path)
+    assert more.resumed > 0
+    _same(straight, more.to_xarray())
+
+
+def test_run_study_needs_its_sampling_interval():
+    with pytest.raises(ValueError, match="sample_every"):
+        run_study("run", RUN_GRID, {}, 10.0)
+    with pytest.raises(ValueError, match="sample_every"):
+        run_study("run", RUN_GRID, {"sample_every": 0.001}, 10.0)    # below dt
+
+
+# ---- calls cut short ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("kind, grid, settings, t_end", [
+    ("blowup", GRID, {}, 400.0),
+    ("run", RUN_GRID, RUN_SETTINGS, 300.0),
+    ("chaos", {"N": [4, 8], "tau": [20.0], "seed": [1, 2, 3]}, {"samples_per_decade": 10},
+     500.0),
+], ids=["blowup", "run", "chaos"])
+def test_calls_cut_short_report_more_often_with_the_same_numbers(kind, grid, settings, t_end):
+    whole = run_study(kind, grid, settings, t_end, workers=2, max_call_seconds=None)
+    cut = run_study(kind, grid, settings, t_end, workers=2, max_call_seconds=1e-4)
+    assert cut.calls > 2 * whole.calls
+    a, b = whole.to_xarray(), cut.to_xarray()
+    _same(a, b, skip=("t_reached",) if kind == "chaos" else ())
+    # the engine's own t_reached of an orbit decided early (chaotic) is the end of the call it
+    # was decided in: the one number that depends on the cuts
+    going = ~a["finished"].values
+    assert np.array_equal(a["t_reached"].values[going], b["t_reached"].values[going])
+
+
+def test_max_call_seconds_is_checked():
+    with pytest.raises(ValueError, match="max_call_seconds"):
+        run_study("blowup", GRID, {}, 10.0, max_call_seconds=0)
+    with pytest.raises(ValueError, match="max_call_seconds"):
+        run_study("blowup", GRID, {}, 10.0, max_call_seconds="soon")
