@@ -174,3 +174,21 @@ def test_max_call_seconds_is_checked():
         run_study("blowup", GRID, {}, 10.0, max_call_seconds=0)
     with pytest.raises(ValueError, match="max_call_seconds"):
         run_study("blowup", GRID, {}, 10.0, max_call_seconds="soon")
+
+
+def test_recurrence_is_the_run_kind_reduced_to_shares():
+    """The recurrence kind is a specialisation of the run kind: its shares are the run's
+    E_1..E_4 over the sum of all E_k, and the committed recurrence studies keep their key."""
+    from pathlib import Path
+
+    from fputlab.engine import load_study
+    grid = {"N": [16], "tau": [0.0, 50.0], "seed": [3]}
+    settings = {"sample_every": 5.0, "dt": 0.05, "method": "yoshida4"}
+    rec = run_study("recurrence", grid, settings, 300.0, workers=1).to_xarray()
+    run = run_study("run", grid, settings, 300.0, workers=1).to_xarray()
+    E = run["E"].values
+    np.testing.assert_array_equal(rec["share"].values, E[..., :4] / E.sum(-1, keepdims=True))
+    np.testing.assert_array_equal(rec["blew_up"].values, run["blew_up"].values)
+    studies = Path(__file__).resolve().parents[2] / "studies" / "open_questions"
+    for d in sorted(studies.glob("recurrence_*")):
+        assert load_study(d).to_xarray().attrs["kind"] == "recurrence"   # the key still matches
