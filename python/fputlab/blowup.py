@@ -410,12 +410,14 @@ def blowup_sweep(tau=None, Ns=(64,), realisations: int = 20, *, t_end: float = 1
     grid = {"N": Ns, "tau": taus, "seed": [first_seed + r for r in range(realisations)]}
     study = run_study("blowup", grid, settings, t_max, work_dir=work_dir, overwrite=overwrite,
                       workers=workers, scheduler=scheduler, progress=progress)
-    if study.failed:
+    if study.failed:     # as the run raised it (the kind reports "<type>: <message>")
         from ._errors import IntegrationError
         c, msg = study.failed[0]
-        raise IntegrationError(f"{len(study.failed)} run(s) failed; the first (N = {c['N']}, "
-                               f"tau = {c['tau']:g}, seed = {c['seed']}): {msg}",
-                               ll.ERR_NONFINITE, None)
+        text = (f"{len(study.failed)} run(s) failed; the first (N = {c['N']}, tau = "
+                f"{c['tau']:g}, seed = {c['seed']}): {msg}")
+        if msg.startswith(("ValueError", "TypeError")):
+            raise (TypeError if msg.startswith("TypeError") else ValueError)(text)
+        raise IntegrationError(text, ll.ERR_NONFINITE, None)
     records = _records(study.dataset)
     p = study.dataset["blew_up"].mean("seed").values          # (N, tau)
     agree = [(r.tau > r.tau_c) == r.blew_up for r in records if np.isfinite(r.tau_c)]

@@ -357,9 +357,16 @@ def _run(k, spec, store, workers, scheduler, progress, max_call_seconds=None) ->
                              "run to: use a new work_dir for a shorter study")
     tasks = spec.tasks()
     memory: dict[str, dict] = {}        # in-memory reports (no work_dir)
+    # the last report of every unfinished task this run has written: the next call's
+    # `previous` without reading it back (each call carries it to a worker anyway, so this
+    # holds no more than a round's calls do)
+    latest: dict[str, dict] = {}
 
     def previous(c):
-        return store.read_task(task_id(c), c) if store is not None else memory.get(task_id(c))
+        tid = task_id(c)
+        if store is None:
+            return memory.get(tid)
+        return latest[tid] if tid in latest else store.read_task(tid, c)
     todo, reused, resumed = [], 0, 0
     for c in tasks:
         rep = previous(c)
@@ -411,6 +418,10 @@ def _run(k, spec, store, workers, scheduler, progress, max_call_seconds=None) ->
                             reached[tid] = float(rep["t"])
                             if store is not None:
                                 store.write_task(tid, c, rep)
+                                if rep["done"]:
+                                    latest.pop(tid, None)
+                                else:
+                                    latest[tid] = rep
                             else:
                                 memory[tid] = rep
                             if rep["done"] or rep["t"] >= t_end:

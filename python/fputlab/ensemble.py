@@ -24,7 +24,6 @@ import hashlib
 import inspect
 import json
 import math
-import os
 import re
 from dataclasses import dataclass
 from pathlib import Path

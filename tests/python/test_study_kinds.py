@@ -11,7 +11,7 @@ import pytest
 import fputlab
 from fputlab import Lattice
 from fputlab.blowup import blowup_sweep, blowup_time, realisation_tau_c
-from fputlab.engine import run_study, wilson_interval
+from fputlab.engine import load_study, run_study, wilson_interval
 
 xr = pytest.importorskip("xarray")
 
@@ -87,6 +87,24 @@ def test_blowup_sweep_on_the_engine_keeps_its_study(tmp_path):
     np.testing.assert_array_equal(np.array(again["records"], float), np.array(out["records"], float))
     with pytest.raises(ValueError, match="another study"):
         blowup_sweep([20.0], work_dir=tmp_path, **kw)
+
+
+def test_a_failed_run_is_reported_not_stored_and_tried_again(tmp_path):
+    """Without a stopping criterion two of these lattices overflow: the study lists them as
+    failed, stores nothing of them, and the next run tries them again; blowup_sweep raises."""
+    grid = {"N": [16], "tau": [50.0], "seed": [1, 2, 3]}
+    r = run_study("blowup", grid, {"criteria": []}, 500.0, workers=2, work_dir=tmp_path)
+    assert [c["seed"] for c, _ in r.failed] == [1, 3] and r.computed == 1
+    assert all(m.startswith("IntegrationError: state became non-finite") for _, m in r.failed)
+    # of a failed run at most its last good piece is kept (the probe before the failure,
+    # unfinished): the next run continues from there
+    ds = load_study(tmp_path).to_xarray()
+    reached = ds["t_reached"].values.ravel()
+    assert reached[1] == 500.0 and np.all(np.nan_to_num(reached[[0, 2]]) < 500.0)
+    again = run_study("blowup", grid, {"criteria": []}, 500.0, workers=2, work_dir=tmp_path)
+    assert again.reused == 1 and len(again.failed) == 2 and "failed=2" in repr(again)
+    with pytest.raises(fputlab.IntegrationError, match="2 run.*seed = 1.*non-finite"):
+        blowup_sweep([50.0], Ns=[16], realisations=3, t_end=500.0, workers=2, criteria=[])
 
 
 @pytest.mark.parametrize("settings, name", [
