@@ -11,6 +11,8 @@ of kind, grid and settings, t_end excluded), one file per task replaced atomical
 the task reports, the merged result as netCDF. A rerun continues; a larger t_end continues every
 unfinished task from its saved state (bit for bit, for the kinds that keep one); a changed spec
 is refused (``overwrite=True`` or a new directory); a second runner is refused (fcntl lock).
+Every task reports at the horizons (`HORIZONS`) and, for the kinds that continue from a saved
+state, at least every ``max_call_seconds`` of CPU in between.
 Without ``work_dir`` everything stays in memory, for small jobs.
 
 Kinds are registered in one table, `KINDS`: name -> "module:attribute" of a `StudyKind`,

@@ -310,8 +310,8 @@ def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
         Final time of every task. (`t_max`: its old spelling, deprecated.)
     work_dir : str or path, optional
         The study's directory (created; reused to resume; another sweep's is refused). Default:
-        in memory. A directory of the per-task files of fputlab <= 0.x's run_sweep is refused
-        with a message (finish it with that version, or use a new directory).
+        in memory. A directory of the per-task files of run_sweep before the study engine is
+        refused with a message (finish it with that version, or use a new directory).
     out : str or path, optional
         The merged HDF5 file (layout: docs/hdf5.md); default: none.
     model : str, optional
