@@ -398,7 +398,8 @@ def blowup_sweep(tau=None, Ns=(64,), realisations: int = 20, *, t_end: float = 1
     ValueError
         An invalid argument or setting (named), or another study in `work_dir`.
     IntegrationError
-        A run became NaN/Inf without a criterion firing (nothing of it is stored).
+        A run became NaN/Inf without a criterion firing (not stored as finished: a rerun
+        tries it again).
     """
     taus = _renamed(tau, taus, "tau", "taus")
     t_max = _renamed(t_end, t_max, "t_end", "t_max")

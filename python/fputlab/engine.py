@@ -113,8 +113,9 @@ class StudyKind:
         report per task: {t (= t_end: the time it was advanced to), done, message, cpu,
         values: {name: array}, state: {name: array} or None}. `done`: a larger t_end changes
         nothing (a decided orbit, a blow-up, a failure). A task that failed and is to be tried
-        again by the next run reports {"error": "<type>: <message>"} only: nothing of it is
-        stored (it is listed in `StudyResult.failed`)."""
+        again by the next run reports {"error": "<type>: <message>"} only: that call stores
+        nothing (the task keeps its last good report) and is listed in
+        `StudyResult.failed`."""
         raise NotImplementedError
 
     #: attributes (units, long_name) of the grid coordinates
@@ -187,8 +188,8 @@ class StudyResult:
     resumed: int = 0
     reused: int = 0
     extras: dict = field(default_factory=dict)
-    #: tasks that failed in this run (nothing stored: the next run tries them again), as
-    #: (coords, "<type>: <message>") in grid order
+    #: tasks that failed in this run (the failing call stores nothing: the next run tries
+    #: again from the last good report), as (coords, "<type>: <message>") in grid order
     failed: list = field(default_factory=list)
     #: calls made (a task advanced in several pieces counts once per piece)
     calls: int = 0
@@ -280,11 +281,12 @@ def run_study(kind: str, grid: dict, settings: dict, t_end: float, *, work_dir=N
     progress : bool, optional
         A progress bar with a cost-weighted ETA.
     max_call_seconds : float or None, optional
-        Most CPU seconds of one call (default `MAX_CALL_SECONDS`): once a task's cost per unit
-        of t is measured, its way to the next horizon is cut into calls of at most this long
-        (ending on multiples of the kind's `StudyKind.quantum`, where the numbers do not
-        depend on the cut), so every task reports, and a kill loses, at most about this much.
-        None: one call per horizon.
+        Most CPU seconds of one call of a resumable kind (default `MAX_CALL_SECONDS`): a
+        task's first call goes 1/16 of the way to its horizon (a probe of its cost), then its
+        way is cut into calls of at most this long by the measured CPU per unit of t (ending
+        on multiples of the kind's `StudyKind.quantum`, where the numbers do not depend on the
+        cut), so every task reports, and a kill loses, at most about this much. None: one call
+        per horizon.
 
     Raises
     ------

@@ -227,3 +227,15 @@ def test_failed_tasks_are_reported_and_retried(tmp_path, dask_cluster, engine):
     assert list(m["seed"]) == [2] and m["attrs"]["n_failed"] == 2 and m["attrs"]["n_tasks"] == 3
     again = run_sweep(*args, **opts, **kw)
     assert again["skipped"] == 1 and len(again["failed"]) == 2
+
+
+def test_the_command_line_refuses_an_old_work_dir_in_one_line(tmp_path, capsys):
+    from fputlab.cli import main
+    work = tmp_path / "s.h5.tasks"
+    work.mkdir()
+    (work / "blowup_N8_tau10.0_seed1_0123456789.h5").write_bytes(b"old")
+    assert main(["sweep", "--out", str(tmp_path / "s.h5"), "--tau", "10", "--N", "8",
+                 "--realisations", "1", "--t-end", "5", "--workers", "1", "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "older run_sweep" in err and "\n" not in err and "Traceback" not in err
+    assert not (tmp_path / "s.h5").exists()
