@@ -210,3 +210,23 @@ def test_recurrence_is_the_run_kind_reduced_to_shares():
     studies = Path(__file__).resolve().parents[2] / "studies" / "open_questions"
     for d in sorted(studies.glob("recurrence_*")):
         assert load_study(d).to_xarray().attrs["kind"] == "recurrence"   # the key still matches
+
+
+def test_an_orbit_saved_alone_continues_in_lanes_bit_for_bit():
+    """Chunks change between calls (an orbit decided early leaves its chunk; calls cut short
+    at max_call_seconds): an orbit advanced alone (fpl_chaos) and then in the lanes of the
+    batched kernel, or the other way round, gives the numbers of the lanes all the way."""
+    from fputlab.chaos.ensemble import CHAOS_KIND
+    grid, s = CHAOS_KIND.normalise({"N": [4], "tau": [20.0], "seed": [1, 2, 3, 4]},
+                                   {"samples_per_decade": 10, "stop_when_chaotic": False})
+    coords = [{"N": 4, "tau": 20.0, "seed": seed} for seed in grid["seed"]]
+    straight = CHAOS_KIND.run(s, coords, [None] * 4, 400.0)
+    first = CHAOS_KIND.run(s, coords[:3], [None] * 3, 100.0) + \
+        CHAOS_KIND.run(s, coords[3:], [None], 100.0)           # the last one alone
+    assert np.ndim(first[3]["state"]["y"]) != np.ndim(first[0]["state"]["y"])
+    more = CHAOS_KIND.run(s, coords, first, 400.0)
+    alone = CHAOS_KIND.run(s, coords[:1], first[:1], 400.0)     # saved in lanes, then alone
+    for a, b in zip(straight + straight[:1], more + alone):
+        for name, v in a["values"].items():
+            x, y = np.asarray(v), np.asarray(b["values"][name])
+            assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), name

@@ -199,7 +199,9 @@ def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
     if prevs[0] is not None:
         st = [p["state"] for p in prevs]
         b.set_orbits([int(x["steps"]) for x in st], [float(x["t"]) for x in st],
-                     np.stack([np.asarray(x["y"], float) for x in st]),
+                     # a state saved by a single-orbit call is (1 + n_dev, 2N), by lanes flat:
+                     # the same numbers in the same order
+                     np.stack([np.asarray(x["y"], float).ravel() for x in st]),
                      np.stack([chaos_accumulators(x["acc"]) for x in st]))
     b.advance(t_end, *arrays)
     cpu = (time.process_time() - cpu0) / R
