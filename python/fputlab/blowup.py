@@ -1,7 +1,12 @@
 """Finite-time blow-up: stopping criteria found by root-finding, blow-up times, and sweeps of the
-blow-up probability over disorder realisations (paper Sec. 3, Fig. 3 and Sec. 4)."""
+blow-up probability over disorder realisations (paper Sec. 3, Fig. 3 and Sec. 4).
+
+The sweeps are studies of the study engine (`fputlab.engine`), kind "blowup" (`BLOWUP_KIND`):
+one run per (N, tau, seed), kept on disk with ``work_dir``; a larger t_end continues every run
+that has not blown up from its saved state (bit for bit for the fixed-step methods)."""
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -11,17 +16,18 @@ import numpy as np
 from . import _lowlevel as ll
 from ._display import ResultMixin
 from ._arrays import as_float_array
-from ._engine import check_ensemble, run_calls
+from ._engine import check_ensemble
 from ._errors import Interrupted
 from ._pacing import Pacer, first_span
-from ._validate import _positive_real, _real, _renamed
+from ._validate import C_U64, _int, _positive_real, _real, _renamed
+from .engine import StudyKind, run_study, wilson_interval
 # CRITERIA stays importable from here (fputlab.blowup.CRITERIA)
-from .integrate import CRITERIA, Integrator, check_steps, method_info  # noqa: F401
-from .lattice import Lattice
+from .integrate import CRITERIA, Integrator, check_steps, criteria_events, method_info  # noqa: F401
+from .lattice import MODELS, Lattice
 from .reduction import realisation_quadratics
 
 __all__ = ["blowup_time", "blowup_sweep", "Blowup", "BlowupRecord", "default_criteria",
-           "realisation_tau_c", "CRITERIA"]
+           "realisation_tau_c", "CRITERIA", "BLOWUP_KIND", "BlowupKind"]
 
 def default_criteria(lattice: Lattice) -> list[tuple]:
     """The bond potential's barrier: a bond stretched beyond its nearer top (`Lattice.barrier`,
@@ -158,20 +164,184 @@ class BlowupRecord(NamedTuple):
         return np.array([tuple(r) for r in records], dtype=dtype)
 
 
-def _one(args):
-    N, tau, seed, model, alpha, t_max, method, kwargs = args
-    lat = Lattice(N, alpha, model, tau=tau, seed=seed)
-    res = blowup_time(lat, t_max, method=method, **kwargs)
-    return BlowupRecord(tau, N, seed, res.blew_up, res.time, realisation_tau_c(N, seed, alpha))
+# ---- the blow-up study kind -------------------------------------------------------------------
+
+#: settings of blow-up studies and their defaults (dt: C's fixed step, None for the adaptive
+#: methods; rtol/atol: C's; criteria None: `default_criteria` of each lattice; y0 None: the
+#: paper's mode-1 state)
+_SETTINGS = {"model": "nonlinear", "alpha": 0.25, "method": "yoshida4", "dt": None,
+             "rtol": ll.RTOL, "atol": ll.ATOL, "criteria": None, "y0": None}
+
+
+def _check_grid_values(values, name: str, kind, minimum) -> list:
+    try:
+        raw = np.atleast_1d(np.asarray(values)).tolist()
+        vals = [kind(v) for v in raw]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers (got {values!r})") from None
+    if not vals:
+        raise ValueError(f"{name} must not be empty")
+    if kind is int and any(float(v) != int(v) for v in raw):
+        raise ValueError(f"{name} must be integers (got {values!r})")
+    if any(not math.isfinite(v) or v < minimum for v in vals):
+        raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")
+    if len(set(vals)) != len(vals):
+        raise ValueError(f"{name} must not repeat values (got {vals})")
+    return vals
+
+
+def _study_lattice(settings: dict, N: int, tau: float, seed: int) -> Lattice:
+    return Lattice(N, settings["alpha"], settings["model"], tau=tau, seed=seed)
+
+
+class BlowupKind(StudyKind):
+    """The blow-up time of one run per (N, tau, seed) (`blowup_time`'s numbers), and the
+    realisation's own two-mode threshold tau_c. A run that has not blown up keeps its
+    integrator state (steps, t, y), so a larger t_end continues it: bit for bit for the
+    fixed-step methods."""
+    name = "blowup"
+    version = 1
+    resumable = True
+    dims = ("N", "tau", "seed")
+    variables = {
+        "blew_up": ((), bool, "", "a stopping criterion fired before t_end"),
+        "time": ((), float, "1", "blow-up time (NaN: none before t_end)"),
+        "criterion": ((), str, "", "the stopping criterion that fired (empty: none)"),
+        "t_reached": ((), float, "1", "time reached (the blow-up time, or t_end)"),
+        "tau_c": ((), float, "percent", "the realisation's own two-mode threshold tau_c"),
+    }
+    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
+                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
+                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"}}
+
+    def normalise(self, grid, settings):
+        grid = {"N": _check_grid_values(grid["N"], "Ns", int, 2),
+                "tau": _check_grid_values(grid["tau"], "tau", float, 0.0),
+                "seed": _check_grid_values(grid["seed"], "seeds", int, 0)}
+        for seed in grid["seed"]:
+            _int(seed, "seeds", C_U64)
+        unknown = set(settings) - set(_SETTINGS)
+        if unknown:
+            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of blow-up studies "
+                             f"(known: {', '.join(sorted(_SETTINGS))})")
+        s = {**_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
+        if s["model"] not in MODELS:
+            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
+        if s["model"] == "homogeneous" and any(t != 0 for t in grid["tau"]):
+            raise ValueError("tau: the homogeneous model has no disorder (use tau=[0])")
+        if not isinstance(s["method"], str):
+            raise ValueError(f"method must be a string (got {s['method']!r})")
+        adaptive = method_info(s["method"])["adaptive"]        # names an unknown method
+        s["alpha"] = _real(s["alpha"], "alpha")
+        if not math.isfinite(s["alpha"]):
+            raise ValueError(f"alpha must be finite (got {s['alpha']:g})")
+        if s["dt"] is None and not adaptive:
+            s["dt"] = ll.DT
+        for name in ("dt", "rtol", "atol"):
+            if s[name] is not None:
+                s[name] = _real(s[name], name)
+                if not s[name] > 0:
+                    raise ValueError(f"{name} must be > 0 (got {s[name]:g})")
+        if s["criteria"] is not None:
+            criteria_events(s["criteria"])                # names a bad criterion
+            s["criteria"] = [[c[0], float(c[1]), *(int(x) for x in c[2:])]
+                             for c in s["criteria"]]
+        if s["y0"] is not None:
+            y0 = np.asarray(s["y0"], dtype=float).ravel()
+            if any(y0.size != 2 * N for N in grid["N"]) or not np.all(np.isfinite(y0)):
+                raise ValueError(f"y0 must hold 2N finite values for every N (got {y0.size} "
+                                 f"values, N = {grid['N']})")
+            s["y0"] = [float(v) for v in y0]
+        return grid, s
+
+    def cost(self, coords, settings):
+        return float(coords["N"])
+
+    def run(self, settings, coords, previous, t_end):
+        return [_blowup_task(settings, c["N"], c["tau"], c["seed"], p, t_end)
+                for c, p in zip(coords, previous)]
+
+    def summary(self, ds):
+        rows = []
+        hit = ds["blew_up"].values
+        started = np.isfinite(ds["t_reached"].values)
+        for i, N in enumerate(ds["N"].values):
+            for j, tau in enumerate(ds["tau"].values):
+                n = int(np.sum(started[i, j]))
+                k = int(np.sum(hit[i, j] & started[i, j]))
+                lo, hi = wilson_interval(k, n)
+                rows.append({"N": int(N), "tau": float(tau), "n": n, "blew_up": k,
+                             "probability": k / n if n else math.nan,
+                             "probability_low": lo, "probability_high": hi})
+        return rows
+
+
+def _blowup_task(settings, N, tau, seed, prev, t_end) -> dict:
+    """One run from the start (or from its saved state) to t_end, or to its blow-up."""
+    cpu0 = time.process_time()
+    try:
+        lat = _study_lattice(settings, N, tau, seed)
+        crit = default_criteria(lat) if settings["criteria"] is None else \
+            [tuple(c) for c in settings["criteria"]]
+        y = lat.mode_state() if settings["y0"] is None else np.asarray(settings["y0"], float)
+        if prev is not None and prev["state"] is not None:
+            tau_c = float(prev["values"]["tau_c"])
+        elif settings["model"] == "homogeneous":
+            tau_c = math.nan
+        else:
+            tau_c = realisation_tau_c(N, seed, settings["alpha"])
+        if settings["dt"] is not None and not method_info(settings["method"])["adaptive"]:
+            check_steps(t_end, settings["dt"], "t_end", t_end)
+        integ = Integrator(lat, y, method=settings["method"], dt=settings["dt"],
+                           rtol=settings["rtol"], atol=settings["atol"], criteria=crit)
+        if prev is not None and prev["state"] is not None:
+            st = prev["state"]
+            integ.restore(int(st["steps"]), float(st["t"]), np.asarray(st["y"], float)[None, :])
+        integ._h.advance(t_end)     # a failure without an event is not a blow-up: it raises
+    except Exception as err:        # reported, not stored: the next run tries it again
+        return {"error": f"{type(err).__name__}: {err}"}
+    event = integ.event
+    if event:
+        values = {"blew_up": True, "time": float(event["time"]),
+                  "criterion": event["criterion"], "t_reached": float(event["time"]),
+                  "tau_c": tau_c}
+        state = None
+    else:
+        values = {"blew_up": False, "time": math.nan, "criterion": "",
+                  "t_reached": float(t_end), "tau_c": tau_c}
+        state = {"steps": np.int64(integ.steps), "t": np.float64(integ.t),
+                 "y": integ.state[0]}
+    return {"t": float(t_end), "done": bool(event), "message": integ._h.errmsg() if event else "",
+            "cpu": time.process_time() - cpu0, "values": values, "state": state}
+
+
+BLOWUP_KIND = BlowupKind()
+
+
+def _records(ds) -> list:
+    """The BlowupRecords of a blow-up study's dataset, in the order tau, N, seed (finished
+    tasks only)."""
+    out = []
+    blew, times = ds["blew_up"].values, ds["time"].values
+    tauc, reached = ds["tau_c"].values, ds["t_reached"].values
+    for j, tau in enumerate(ds["tau"].values):
+        for i, N in enumerate(ds["N"].values):
+            for r, seed in enumerate(ds["seed"].values):
+                if not np.isfinite(reached[i, j, r]):
+                    continue
+                out.append(BlowupRecord(float(tau), int(N), int(seed), bool(blew[i, j, r]),
+                                        float(times[i, j, r]), float(tauc[i, j, r])))
+    return out
 
 
 def blowup_sweep(tau=None, Ns=(64,), realisations: int = 20, *, t_end: float = 1e4,
                  model: str = "nonlinear", alpha: float = 0.25, method: str = "yoshida4",
-                 first_seed: int = 1, workers: int | None = None, scheduler=None,
-                 progress: bool = False, taus=None, t_max: float | None = None,
-                 **kwargs) -> dict:
-    """Probability of blow-up before `t_end` versus tau (and N) over disorder realisations, run
-    in parallel processes.
+                 first_seed: int = 1, work_dir=None, overwrite: bool = False,
+                 workers: int | None = None, scheduler=None, progress: bool = False,
+                 taus=None, t_max: float | None = None, **kwargs) -> dict:
+    """Probability of blow-up before `t_end` versus tau (and N) over disorder realisations: a
+    blow-up study of the study engine (`fputlab.engine.run_study`, kind "blowup"), run in
+    parallel processes or on a Dask cluster.
 
     Parameters
     ----------
@@ -182,7 +352,9 @@ def blowup_sweep(tau=None, Ns=(64,), realisations: int = 20, *, t_end: float = 1
     realisations : int, optional
         Disorder draws per (tau, N), seeds ``first_seed, first_seed + 1, ...``.
     t_end : float, optional
-        Longest time per run. (`t_max`: its old spelling, deprecated.)
+        Longest time per run. (`t_max`: its old spelling, deprecated.) With `work_dir`, a
+        larger t_end than the last run's continues every run that has not blown up from its
+        saved state (bit for bit for the fixed-step methods).
     model : str, optional
         Lattice model (default "nonlinear", the paper's).
     alpha : float, optional
@@ -191,18 +363,23 @@ def blowup_sweep(tau=None, Ns=(64,), realisations: int = 20, *, t_end: float = 1
         Integrator name.
     first_seed : int, optional
         Seed of the first realisation.
+    work_dir : path, optional
+        Keep the study on disk (`fputlab.io.store`): each run written as it finishes, a rerun
+        continues, a changed study is refused (default: in memory).
+    overwrite : bool, optional
+        Discard another study found in `work_dir` instead of refusing.
     workers : int, optional
         Worker processes (default: all cores).
     scheduler : str or dask.distributed.Client, optional
         Run on a Dask cluster instead (the ensemble engine, `fputlab.ensemble.run_calls`).
     progress : bool, optional
-        A progress bar over the runs (tqdm.auto).
+        The study engine's progress bar (tasks, cost-weighted ETA).
     taus : sequence of float, optional
         Deprecated spelling of `tau` (warns; removed in the next release).
     t_max : float, optional
         Deprecated spelling of `t_end` (warns; removed in the next release).
     **kwargs
-        Passed to `blowup_time` (dt, rtol, atol, criteria).
+        Settings of the runs, as `blowup_time` takes them: dt, rtol, atol, criteria, y0.
 
     Returns
     -------
@@ -211,33 +388,42 @@ def blowup_sweep(tau=None, Ns=(64,), realisations: int = 20, *, t_end: float = 1
         (`BlowupRecord`: tau, N, seed, blew_up, time, tau_c, in the order tau, N, seed) where
         tau_c is the realisation's own two-mode threshold (B~ < 0 above it), and
         ``prediction_accuracy``: the share of runs where "tau > tau_c" agrees with "blew up
-        before t_end" (``t_end``; ``t_max`` too, deprecated). Plot with `fputlab.plotting.plot_blowup_sweep_figure` or
+        before t_end" (``t_end``; ``t_max`` too, deprecated); ``study``: the
+        `fputlab.engine.StudyResult` (``to_xarray()``, ``summary()`` with Wilson 95 %
+        intervals). Plot with `fputlab.plotting.plot_blowup_sweep_figure` or
         `fputlab.plotting.plot_blowup_sweep`.
-    """
-    from tqdm.auto import tqdm
 
+    Raises
+    ------
+    ValueError
+        An invalid argument or setting (named), or another study in `work_dir`.
+    IntegrationError
+        A run became NaN/Inf without a criterion firing (not stored as finished: a rerun
+        tries it again).
+    """
     taus = _renamed(tau, taus, "tau", "taus")
     t_max = _renamed(t_end, t_max, "t_end", "t_max")
     if taus is None:
         raise TypeError("blowup_sweep() needs tau, the tolerances in percent")
     taus, Ns, realisations = check_ensemble(taus, Ns, realisations)
-    tasks = [(N, tau, first_seed + r, model, alpha, t_max, method, kwargs)
-             for tau in taus for N in Ns for r in range(realisations)]
-    done = {}
-    with tqdm(total=len(tasks), desc="blow-up sweep", disable=None if progress else True) as bar:
-        for (task,), rec, err in run_calls(_one, [(t,) for t in tasks], workers=workers,
-                                           scheduler=scheduler):
-            if err is not None:
-                raise err
-            done[task[:3]] = rec
-            bar.update(1)
-    records = [done[t[:3]] for t in tasks]          # in the order tau, N, seed
-    prob = np.zeros((len(taus), len(Ns)))
-    for i, tau in enumerate(taus):
-        for j, N in enumerate(Ns):
-            hits = [r.blew_up for r in records if r.tau == tau and r.N == N]
-            prob[i, j] = np.mean(hits)
+    first_seed = _int(first_seed, "first_seed", C_U64)
+    settings = dict(kwargs, model=model, alpha=alpha, method=method)
+    grid = {"N": Ns, "tau": taus, "seed": [first_seed + r for r in range(realisations)]}
+    study = run_study("blowup", grid, settings, t_max, work_dir=work_dir, overwrite=overwrite,
+                      workers=workers, scheduler=scheduler, progress=progress)
+    if study.failed:     # as the run raised it (the kind reports "<type>: <message>")
+        from ._errors import IntegrationError
+        c, msg = study.failed[0]
+        text = (f"{len(study.failed)} run(s) failed; the first (N = {c['N']}, tau = "
+                f"{c['tau']:g}, seed = {c['seed']}): {msg}")
+        if msg.startswith(("ValueError", "TypeError")):
+            raise (TypeError if msg.startswith("TypeError") else ValueError)(text)
+        raise IntegrationError(text, ll.ERR_NONFINITE, None)
+    records = _records(study.dataset)
+    p = study.dataset["blew_up"].mean("seed").values          # (N, tau)
     agree = [(r.tau > r.tau_c) == r.blew_up for r in records if np.isfinite(r.tau_c)]
-    return {"tau": np.array(taus), "N": np.array(Ns), "probability": prob, "records": records,
-            "t_end": t_max, "t_max": t_max, "realisations": realisations,
-            "prediction_accuracy": float(np.mean(agree)) if agree else float("nan")}
+    return {"tau": np.array(taus), "N": np.array(Ns), "probability": np.asarray(p, float).T,
+            "records": records, "t_end": study.dataset.attrs["t_end"],
+            "t_max": study.dataset.attrs["t_end"], "realisations": realisations,
+            "prediction_accuracy": float(np.mean(agree)) if agree else float("nan"),
+            "study": study}

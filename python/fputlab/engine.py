@@ -11,6 +11,8 @@ of kind, grid and settings, t_end excluded), one file per task replaced atomical
 the task reports, the merged result as netCDF. A rerun continues; a larger t_end continues every
 unfinished task from its saved state (bit for bit, for the kinds that keep one); a changed spec
 is refused (``overwrite=True`` or a new directory); a second runner is refused (fcntl lock).
+Every task reports at the horizons (`HORIZONS`) and, for the kinds that continue from a saved
+state, at least every ``max_call_seconds`` of CPU in between.
 Without ``work_dir`` everything stays in memory, for small jobs.
 
 Kinds are registered in one table, `KINDS`: name -> "module:attribute" of a `StudyKind`,
@@ -31,14 +33,20 @@ import numpy as np
 from ._engine import chunks, process_pool, run_calls, total_threads
 
 __all__ = ["StudySpec", "StudyKind", "StudyResult", "KINDS", "get_kind", "run_study",
-           "load_study", "wilson_interval"]
+           "load_study", "wilson_interval", "HORIZONS", "MAX_CALL_SECONDS"]
 
 #: the study kinds: name -> "module:attribute" of its StudyKind. One line per kind.
 KINDS = {
+    "blowup": "fputlab.blowup:BLOWUP_KIND",
     "chaos": "fputlab.chaos.ensemble:CHAOS_KIND",
     "recurrence": "fputlab.recurrence:RECURRENCE_KIND",
+    "run": "fputlab.sampled:RUN_KIND",
     "spectrum": "fputlab.chaos.spectrum:SPECTRUM_KIND",
 }
+
+#: the default bound of one call's CPU seconds (`run_study`'s max_call_seconds): a slow orbit's
+#: way to the next horizon is cut into pieces of about this much, so a kill loses at most that
+MAX_CALL_SECONDS = 300.0
 
 
 def get_kind(name: str) -> "StudyKind":
@@ -64,6 +72,8 @@ class StudyKind:
     batch : int
         Tasks of one `group` are given to one call in chunks of at least this many (1: no
         batching; the chaos kind: its vector lanes).
+    resumable : bool
+        A task continues from its saved state (bit for bit): its calls may be cut short.
     variables : dict
         name -> (extra dims, dtype, units, long_name) of each value a task reports; extra dims
         (e.g. ("sample",)) follow the grid dims. dtype str: a string variable.
@@ -73,6 +83,9 @@ class StudyKind:
     dims: tuple = ()
     batch = 1
     variables: dict = {}
+    #: the kind continues a task from its saved state, bit for bit, so `run_study` may cut a
+    #: call short (max_call_seconds); False: every call runs its tasks from the start
+    resumable = False
 
     def normalise(self, grid: dict, settings: dict) -> tuple[dict, dict]:
         """The grid ({dim: list of values}) and settings, checked (ValueError naming the
@@ -88,12 +101,21 @@ class StudyKind:
         """Relative cost of one unit of t of this task (the ETA and the order of submission)."""
         return 1.0
 
+    def quantum(self, settings: dict) -> float:
+        """A call that `run_study` cuts short (``max_call_seconds``) ends on a multiple of this
+        time, one where the task's numbers do not depend on the cut (a renormalisation, a
+        step): 1 unless the kind says otherwise."""
+        return 1.0
+
     def run(self, settings: dict, coords: list, previous: list, t_end: float) -> list:
         """Worker side (looked up by name in the worker): advance each task (`coords[i]`, from
         its previous report `previous[i]`, or from the start if None) to t_end. Returns one
         report per task: {t (= t_end: the time it was advanced to), done, message, cpu,
         values: {name: array}, state: {name: array} or None}. `done`: a larger t_end changes
-        nothing (a decided orbit, a blow-up, a failure)."""
+        nothing (a decided orbit, a blow-up, a failure). A task that failed and is to be tried
+        again by the next run reports {"error": "<type>: <message>"} only: that call stores
+        nothing (the task keeps its last good report) and is listed in
+        `StudyResult.failed`."""
         raise NotImplementedError
 
     #: attributes (units, long_name) of the grid coordinates
@@ -151,7 +173,7 @@ def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float
     d = 1 + z * z / n
     c = (p + z * z / (2 * n)) / d
     h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    # exact ends at k = 0 and k = n (the formula gives 1 - 1e-16 there in floating point)
+    # at k = 0 and k = n one end is exactly 0 or 1 (c - h rounds to ~1e-17 there)
     return (0.0 if k == 0 else max(0.0, c - h), 1.0 if k == n else min(1.0, c + h))
 
 
@@ -166,6 +188,11 @@ class StudyResult:
     resumed: int = 0
     reused: int = 0
     extras: dict = field(default_factory=dict)
+    #: tasks that failed in this run (the failing call stores nothing: the next run tries
+    #: again from the last good report), as (coords, "<type>: <message>") in grid order
+    failed: list = field(default_factory=list)
+    #: calls made (a task advanced in several pieces counts once per piece)
+    calls: int = 0
 
     def to_xarray(self):
         """The result as an xarray.Dataset (dims: the grid, then e.g. sample)."""
@@ -179,8 +206,9 @@ class StudyResult:
         ds = self.dataset
         shape = " x ".join(f"{d}={ds.sizes[d]}" for d in get_kind(self.kind).dims)
         where = f", work_dir={self.work_dir!r}" if self.work_dir else ""
+        bad = f", failed={len(self.failed)}" if self.failed else ""
         return (f"StudyResult(kind={self.kind!r}, {shape}, t_end={ds.attrs.get('t_end'):g}, "
-                f"computed={self.computed}, reused={self.reused}{where})")
+                f"computed={self.computed}, reused={self.reused}{bad}{where})")
 
     def _repr_html_(self):
         rows = self.summary()
@@ -228,7 +256,8 @@ class _Progress:
 
 def run_study(kind: str, grid: dict, settings: dict, t_end: float, *, work_dir=None,
               overwrite: bool = False, workers: int | None = None, scheduler=None,
-              progress: bool = False) -> StudyResult:
+              progress: bool = False, max_call_seconds: float | None = MAX_CALL_SECONDS
+              ) -> StudyResult:
     """Run a study (see the module docstring) and return its `StudyResult`.
 
     Parameters
@@ -251,6 +280,13 @@ def run_study(kind: str, grid: dict, settings: dict, t_end: float, *, work_dir=N
         Run on Dask: tasks are sized by the cluster's total threads.
     progress : bool, optional
         A progress bar with a cost-weighted ETA.
+    max_call_seconds : float or None, optional
+        Most CPU seconds of one call of a resumable kind (default `MAX_CALL_SECONDS`): a
+        task's first call goes 1/16 of the way to its horizon (a probe of its cost), then its
+        way is cut into calls of at most this long by the measured CPU per unit of t (ending
+        on multiples of the kind's `StudyKind.quantum`, where the numbers do not depend on the
+        cut), so every task reports, and a kill loses, at most about this much. None: one call
+        per horizon.
 
     Raises
     ------
@@ -273,13 +309,21 @@ def run_study(kind: str, grid: dict, settings: dict, t_end: float, *, work_dir=N
         raise ValueError(f"t_end must be a number (got {t_end!r})") from None
     if not (math.isfinite(t_end) and t_end > 0):
         raise ValueError(f"t_end must be finite and > 0 (got {t_end:g})")
+    if max_call_seconds is not None:
+        try:
+            max_call_seconds = float(max_call_seconds)
+        except (TypeError, ValueError):
+            raise ValueError(f"max_call_seconds must be a number or None (got "
+                             f"{max_call_seconds!r})") from None
+        if not max_call_seconds > 0:
+            raise ValueError(f"max_call_seconds must be > 0 (got {max_call_seconds:g})")
     spec = StudySpec(kind, grid, settings, t_end)
     store = None
     if work_dir is not None:
         from .io.store import StudyStore
         store = StudyStore(work_dir, {**spec.doc(), "key": spec.key()}, overwrite=overwrite)
     try:
-        return _run(k, spec, store, workers, scheduler, progress)
+        return _run(k, spec, store, workers, scheduler, progress, max_call_seconds)
     finally:
         if store is not None:
             store.close()
@@ -308,7 +352,7 @@ def load_study(work_dir) -> StudyResult:
     return StudyResult(k.name, ds, str(store.path))
 
 
-def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
+def _run(k, spec, store, workers, scheduler, progress, max_call_seconds=None) -> StudyResult:
     t_end = spec.t_end
     if store is not None:
         reached = store.t_end()
@@ -317,9 +361,16 @@ def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
                              "run to: use a new work_dir for a shorter study")
     tasks = spec.tasks()
     memory: dict[str, dict] = {}        # in-memory reports (no work_dir)
+    # the last report of every unfinished task this run has written: the next call's
+    # `previous` without reading it back (each call carries it to a worker anyway, so this
+    # holds no more than a round's calls do)
+    latest: dict[str, dict] = {}
 
     def previous(c):
-        return store.read_task(task_id(c), c) if store is not None else memory.get(task_id(c))
+        tid = task_id(c)
+        if store is None:
+            return memory.get(tid)
+        return latest[tid] if tid in latest else store.read_task(tid, c)
     todo, reused, resumed = [], 0, 0
     for c in tasks:
         rep = previous(c)
@@ -328,7 +379,8 @@ def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
         else:
             resumed += rep is not None
             todo.append((c, rep["t"] if rep is not None else 0.0))
-    computed = 0
+    computed, n_calls = 0, 0
+    failed: dict[str, tuple] = {}
     if todo:
         if store is not None:
             store.set_t_end(t_end)
@@ -336,23 +388,49 @@ def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
         bar = _Progress(k, spec.settings, todo, t_end, progress)
         t_min = min(t0 for _, t0 in todo)
         rounds = [h for h in HORIZONS if t_min < h < t_end] + [t_end]
+        reached = {task_id(c): t0 for c, t0 in todo}      # where each task is
+        rate: dict[str, float] = {}                       # measured cpu per unit of t
         # one local pool for every round (starting processes is most of a small task's cost)
         pool = process_pool(workers) if scheduler is None else None
         try:
             for h in rounds:
-                calls = _plan(k, spec, [c for c, _ in todo], previous, h, threads)
-                for call, reports, err in run_calls(_call, calls, workers=workers,
-                                                    scheduler=scheduler, pool=pool):
-                    if err is not None:
-                        raise err
-                    for c, rep in zip(call[2], reports):
-                        if store is not None:
-                            store.write_task(task_id(c), c, rep)
-                        else:
-                            memory[task_id(c)] = rep
-                        if rep["done"] or h == t_end:
-                            computed += 1
-                            bar.update(task_id(c), rep, rep.get("cpu", 0.0))
+                while True:        # a horizon in pieces of at most max_call_seconds per call
+                    live = [c for c, _ in todo if task_id(c) not in failed]
+                    calls = _plan(k, spec, live, previous, h, threads, rate, reached,
+                                  max_call_seconds)
+                    if not calls:
+                        break
+                    for call, reports, err in run_calls(_call, calls, workers=workers,
+                                                        scheduler=scheduler, pool=pool):
+                        if err is not None:
+                            raise err
+                        n_calls += 1
+                        for c, rep in zip(call[2], reports):
+                            tid = task_id(c)
+                            if rep.get("error") is not None:     # not stored: tried again
+                                failed[tid] = (c, str(rep["error"]))
+                                bar.update(tid, rep, 0.0)
+                                continue
+                            advanced = float(rep["t"]) - reached[tid]
+                            if not rep["done"] and advanced <= 0:
+                                raise RuntimeError(f"{k.name} task {tid} did not advance from "
+                                                   f"t = {reached[tid]:g} (a bug of the kind)")
+                            if advanced > 0 and rep.get("cpu", 0.0) > 0:
+                                rate[tid] = float(rep["cpu"]) / advanced
+                                per = rate[tid] / max(k.cost(c, spec.settings), 1e-300)
+                                rate[_PER_COST] = max(rate.get(_PER_COST, 0.0), per)
+                            reached[tid] = float(rep["t"])
+                            if store is not None:
+                                store.write_task(tid, c, rep)
+                                if rep["done"]:
+                                    latest.pop(tid, None)
+                                else:
+                                    latest[tid] = rep
+                            else:
+                                memory[tid] = rep
+                            if rep["done"] or rep["t"] >= t_end:
+                                computed += 1
+                                bar.update(tid, rep, rep.get("cpu", 0.0))
         finally:
             bar.close()
             if pool is not None:
@@ -362,13 +440,20 @@ def _run(k, spec, store, workers, scheduler, progress) -> StudyResult:
     ds = _merge(k, spec, tasks, store, memory)
     if store is not None:
         store.write_result(ds)
+    order = {task_id(c): i for i, c in enumerate(tasks)}
     return StudyResult(k.name, ds, str(store.path) if store is not None else None,
-                       computed=computed, resumed=resumed, reused=reused)
+                       computed=computed, resumed=resumed, reused=reused,
+                       failed=[failed[t] for t in sorted(failed, key=order.get)],
+                       calls=n_calls)
 
 
-def _plan(k, spec, todo, previous, h, threads) -> list:
-    """The calls that advance the unfinished tasks of `todo` to h: tasks of one `group` key
-    together in chunks (one per thread, at least `k.batch`), the costly ones first."""
+def _plan(k, spec, todo, previous, h, threads, rate=None, reached=None,
+          max_call_seconds=None) -> list:
+    """The calls that advance the unfinished tasks of `todo` towards h: tasks of one `group`
+    key together in chunks (one per thread, at least `k.batch`), the costly ones first. A call
+    whose cost per unit of t is measured (`rate`, cpu / t of each task's last call) ends early
+    enough to take at most `max_call_seconds`, on a multiple of the kind's quantum (the caller
+    plans again until every task is at h)."""
     groups: dict = {}
     for c in todo:
         rep = previous(c)
@@ -379,10 +464,39 @@ def _plan(k, spec, todo, previous, h, threads) -> list:
     calls = []
     for key, members in groups.items():
         pieces = chunks(members, threads, k.batch) if key is not None else [[m] for m in members]
-        calls += [(k.name, spec.settings, [m[0] for m in p], [m[1] for m in p], h)
-                  for p in pieces]
+        for p in pieces:
+            coords = [m[0] for m in p]
+            target = h
+            if max_call_seconds and k.resumable:
+                ids = [task_id(c) for c in coords]
+                t0 = max(reached[i] for i in ids)
+                per_t = _call_rate(k, spec.settings, coords, ids, rate)
+                q = float(k.quantum(spec.settings))
+                if per_t is None:       # nothing measured yet: a probe, 1/16 of the way
+                    end = t0 + (h - t0) / 16
+                else:
+                    end = t0 + max_call_seconds / per_t
+                n = max(math.floor(end / q + 1e-9), math.floor(t0 / q + 1e-9) + 1)   # >= one q on
+                target = min(h, n * q)
+            calls.append((k.name, spec.settings, coords, [m[1] for m in p], target))
     calls.sort(key=lambda call: -sum(k.cost(c, spec.settings) for c in call[2]))
     return calls
+
+
+def _call_rate(k, settings, coords, ids, rate) -> float | None:
+    """CPU seconds per unit of t of a call of these tasks: the sum of each task's own measured
+    rate, else the largest rate per unit of `cost` measured on any task times their cost (None:
+    nothing measured yet)."""
+    if all(i in rate for i in ids):
+        return sum(rate[i] for i in ids)
+    per_cost = rate.get(_PER_COST)
+    if per_cost is None:
+        return None
+    return per_cost * sum(k.cost(c, settings) for c in coords)
+
+
+#: the key of `rate` holding the largest measured cpu per unit of t and of cost
+_PER_COST = "(per unit of cost)"
 
 
 def _merge(k, spec, tasks, store, memory):
@@ -443,7 +557,8 @@ def _merge(k, spec, tasks, store, memory):
         if units and units != "1":     # dimensionless: no units (labels "time", not "time [1]")
             attrs["units"] = units
         data[name] = (k.dims + tuple(edims), arr, attrs)
-    data["t_reached"] = (k.dims, t_reached, {"long_name": "time reached"})
+    if "t_reached" not in data:     # a kind's own (the blow-up time of a run stopped there)
+        data["t_reached"] = (k.dims, t_reached, {"long_name": "time reached"})
     data["finished"] = (k.dims, finished,
                         {"long_name": "task finished: a larger t_end adds nothing"})
     ds = xr.Dataset(data, coords=coords)

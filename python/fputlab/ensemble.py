@@ -1,6 +1,8 @@
 """Ensembles beyond one machine: realisation x tau x N sweeps of blow-up times or chaos indicators
 run as independent tasks, on a local process pool or on a Dask cluster, resumable from a work
-directory of per-task HDF5 files, merged into one HDF5 file at the end.
+directory, merged into one HDF5 file at the end. A sweep is a study of the study engine
+(`fputlab.engine.run_study`, kinds "blowup" and "chaos"); `run_sweep` adds the merged file of
+one row per task.
 
     >>> from fputlab.ensemble import run_sweep, load_sweep
     >>> out = run_sweep("blowup", tau=[10, 20], Ns=[64], realisations=50, t_end=1e4,
@@ -11,12 +13,10 @@ directory of per-task HDF5 files, merged into one HDF5 file at the end.
 
 Each task (kind, N, tau, seed) is one disorder realisation `Lattice(N, alpha, model, tau=tau,
 seed=seed)`; seeds are first_seed .. first_seed + realisations - 1, the same for every tau and N.
-The task's result travels back to the client, which writes it to
-`work_dir/<kind>_N<N>_tau<tau>_seed<seed>_<hash>.h5` (temporary name, then os.replace), so the
-work directory need not be shared with remote workers; <hash> identifies the sweep-wide
-parameters (model, alpha, t_max, method, task options). Running the same sweep again skips every
-task whose file exists and reads back; a task that raised is reported and not written, so the next
-run retries it.
+The task's result travels back to the client, which writes it to the study's directory
+(`fputlab.io.store`: tasks/<id>.h5, replaced atomically), so the work directory need not be
+shared with remote workers. Running the same sweep again skips every finished task; a task that
+raised is reported and not written, so the next run retries it.
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ import hashlib
 import inspect
 import json
 import math
-import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -52,9 +52,6 @@ COLUMNS = {
 }
 #: per-task series of the chaos kind (stored as 2-D datasets, NaN-padded, in the merged file)
 SERIES = {"chaos": ("t", "mle_t", "sali_t")}
-
-_FORMAT = "fputlab-ensemble-task-1"
-
 
 @dataclass(frozen=True)
 class Task:
@@ -213,68 +210,6 @@ def run_chaos_group(tasks: list, spec: SweepSpec) -> list:
             for t, orbit in zip(tasks, out)]
 
 
-def _batchable(spec: SweepSpec) -> bool:
-    from .chaos import BATCH_METHODS, lyapunov_batch
-    return spec.kind == "chaos" and spec.method in BATCH_METHODS and \
-        set(dict(spec.options)) <= set(inspect.signature(lyapunov_batch).parameters)
-
-
-def _run_groups(todo, spec, workers, scheduler):
-    """Chaos tasks of one (tau, N) in groups of >= 4 per core, each group one batched call."""
-    cores = workers or os.cpu_count() or 1
-    calls = []
-    for key in sorted({(t.tau, t.N) for t in todo}):
-        group = [t for t in todo if (t.tau, t.N) == key]
-        per = max(4, -(-len(group) // cores))
-        calls += [(group[i:i + per], spec) for i in range(0, len(group), per)]
-    for (group, _), outs, err in run_calls(run_chaos_group, calls, workers=workers,
-                                           scheduler=scheduler):
-        if err is not None:
-            outs = [TaskOutcome(t, None, f"{type(err).__name__}: {err}") for t in group]
-        for o in outs:
-            yield o.task, o.record, (TaskFailed(o.message) if o.message else None)
-
-
-# ---- per-task files ---------------------------------------------------------------------------
-
-def _write_task(path: Path, rec: dict, spec: SweepSpec, key: str) -> None:
-
-    def fill(f):
-        f.attrs["format"] = _FORMAT
-        f.attrs["sweep_key"] = key
-        f.attrs["fputlab_version"] = VERSION
-        for name in ("kind", "N", "tau", "seed", *COLUMNS[rec["kind"]]):
-            f.attrs[name] = rec[name]
-        for name in SERIES.get(rec["kind"], ()):
-            f.create_dataset(name, data=rec[name])
-    write_h5_atomic(path, fill)
-
-
-def _read_task(path: Path, task: Task, key: str) -> dict | None:
-    """The task's record if its file exists, reads back and belongs to this task; else None."""
-    import h5py
-    if not path.is_file():
-        return None
-    try:
-        with h5py.File(path, "r") as f:
-            a = f.attrs
-            if a.get("format") != _FORMAT or a.get("sweep_key") != key:
-                return None
-            rec: dict[str, Any] = {"kind": str(a["kind"]), "N": int(a["N"]),
-                                   "tau": float(a["tau"]), "seed": int(a["seed"])}
-            if (rec["kind"], rec["N"], rec["tau"], rec["seed"]) != \
-                    (task.kind, task.N, task.tau, task.seed):
-                return None
-            for name, dt in COLUMNS[task.kind].items():
-                v = a[name]
-                rec[name] = str(v) if dt is str else dt(v) if dt is not np.int64 else int(v)
-            for name in SERIES.get(task.kind, ()):
-                rec[name] = f[name][...].astype(float)
-        return rec
-    except (OSError, KeyError, ValueError, TypeError):
-        return None
-
-
 # ---- validation -------------------------------------------------------------------------------
 
 def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, method, workers,
@@ -343,39 +278,28 @@ def _validate(kind, taus, Ns, realisations, t_max, model, alpha, first_seed, met
     return taus, Ns, int(realisations), spec
 
 
-# ---- engines ----------------------------------------------------------------------------------
-
-def _run_local(todo, spec, workers):
-    for (task, _), rec, err in run_calls(run_task, [(t, spec) for t in todo], workers=workers):
-        yield task, rec, err
-
-
-def _run_dask(todo, spec, scheduler):
-    key = spec.key()
-    for (task, _), rec, err in run_calls(run_task, [(t, spec) for t in todo], scheduler=scheduler,
-                                         keys=[f"fputlab-{t.stem(key)}" for t in todo]):
-        yield task, rec, err
-
-
 # ---- the sweep --------------------------------------------------------------------------------
 
 def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
               t_end: float | None = None, work_dir=None, out=None, model: str = "nonlinear",
               alpha: float = 0.25, first_seed: int = 1, method: str | None = None,
               workers: int | None = None, scheduler=None, progress: bool = True, taus=None,
-              t_max: float | None = None, **task_options) -> dict:
-    """Run every (tau, N, seed) task of a sweep that has no result in `work_dir` yet, then merge
-    all results into one HDF5 file (one row per task, in the order tau, N, seed).
+              t_max: float | None = None, overwrite: bool = False, **task_options) -> dict:
+    """Run a sweep of (tau, N, seed) tasks as a study of the study engine
+    (`fputlab.engine.run_study`, kind "blowup" or "chaos") and merge all results into one HDF5
+    file (one row per task, in the order tau, N, seed).
 
-    Each task is one disorder realisation ``Lattice(N, alpha, model, tau=tau, seed=seed)``; its
-    result is written to its own file in `work_dir` as it arrives, so running the same sweep
-    again computes only what is missing (a task that raised is retried).
+    Each task is one disorder realisation ``Lattice(N, alpha, model, tau=tau, seed=seed)``; with
+    `work_dir` its result is written to the study's directory as it arrives (`fputlab.io.store`),
+    so running the same sweep again computes only what is missing (a task that raised is
+    retried) and a larger t_end continues the blow-up runs from their saved states.
 
     Parameters
     ----------
     kind : {"blowup", "chaos"}
-        "blowup": `fputlab.blowup.blowup_time` up to `t_end`; "chaos":
-        `fputlab.chaos.lyapunov` up to `t_end`.
+        "blowup": `fputlab.blowup.blowup_time`'s numbers up to `t_end`; "chaos":
+        `fputlab.chaos.lyapunov`'s numbers up to `t_end` (on its sample grid: `n_samples`
+        log-spaced samples up to t_end).
     tau : sequence of float
         Variabilities in percent. (`taus`: its old spelling, deprecated.)
     Ns : sequence of int
@@ -384,10 +308,12 @@ def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
         Realisations per (tau, N), seeds ``first_seed .. first_seed + realisations - 1``.
     t_end : float
         Final time of every task. (`t_max`: its old spelling, deprecated.)
-    work_dir : str or path
-        Folder of the per-task result files (created; reused to resume).
-    out : str or path
-        The merged HDF5 file (layout: docs/hdf5.md).
+    work_dir : str or path, optional
+        The study's directory (created; reused to resume; another sweep's is refused). Default:
+        in memory. A directory of the per-task files of run_sweep before the study engine is
+        refused with a message (finish it with that version, or use a new directory).
+    out : str or path, optional
+        The merged HDF5 file (layout: docs/hdf5.md); default: none.
     model : str, optional
         Lattice model (default "nonlinear", the paper's model 3).
     alpha : float, optional
@@ -402,11 +328,13 @@ def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
     scheduler : str, dask.distributed.Client or cluster, optional
         Run the tasks on Dask instead of the local pool.
     progress : bool, optional
-        A progress bar over the tasks (tqdm.auto).
+        The study engine's progress bar (tasks, cost-weighted ETA).
     taus : sequence of float, optional
         Deprecated spelling of `tau` (warns; removed in the next release).
     t_max : float, optional
         Deprecated spelling of `t_end` (warns; removed in the next release).
+    overwrite : bool, optional
+        Discard another study found in `work_dir` instead of refusing.
     **task_options
         Passed to `blowup_time` / `lyapunov` (e.g. dt, rtol, n_samples).
 
@@ -414,79 +342,143 @@ def run_sweep(kind: str, tau=None, Ns=None, realisations: int | None = None, *,
     -------
     dict
         ``out``, ``work_dir``, ``n_tasks``, ``computed``, ``skipped``, ``failed`` (a list of
-        `Failure`: task and message), ``records`` (one dict per finished task) and ``summary``
+        `Failure`: task and message), ``records`` (one dict per finished task), ``summary``
         ([{"tau", "N", "n", "fraction"}], fraction: the share that blew up, or was classified
-        chaotic).
+        chaotic) and ``study``: the `fputlab.engine.StudyResult` (``to_xarray()``,
+        ``summary()`` with Wilson 95 % intervals).
 
     Raises
     ------
     ValueError
-        An invalid argument (the message names it), or a task option the kind does not take.
+        An invalid argument (the message names it), a task option the kind does not take,
+        another study or old-format task files in `work_dir`.
 
     Examples
     --------
     >>> out = run_sweep("blowup", [10, 20], [64], 50, t_end=1e4,
     ...                 work_dir="sweep.d", out="sweep.h5")        # doctest: +SKIP
     >>> out["summary"]                                             # doctest: +SKIP
+    >>> out["study"].to_xarray()                                   # doctest: +SKIP
     """
+    from .engine import run_study
     taus = _renamed(tau, taus, "tau", "taus")
     t_max = _renamed(t_end, t_max, "t_end", "t_max")
     if taus is None or Ns is None or realisations is None or t_max is None:
         raise TypeError("run_sweep() needs tau, Ns, realisations and t_end")
     taus, Ns, realisations, spec = _validate(kind, taus, Ns, realisations, t_max, model, alpha,
                                              first_seed, method, workers, task_options)
-    if work_dir is None or out is None:
-        raise ValueError("work_dir and out are required")
-    work_dir, out = _path(work_dir, "work_dir"), _path(out, "out")   # bytes, NUL, "" checked
-    work = Path(work_dir)
-    work.mkdir(parents=True, exist_ok=True)
-    key = spec.key()
-    tasks = [Task(kind, N, tau, int(first_seed) + r)
-             for tau in taus for N in Ns for r in range(realisations)]
-    if len(set(tasks)) != len(tasks):
-        raise ValueError("taus and Ns must not repeat values")
-    records: dict[Task, dict] = {}
-    for t in tasks:
-        rec = _read_task(work / f"{t.stem(key)}.h5", t, key)
-        if rec is not None:
-            records[t] = rec
-    skipped = len(records)
-    todo = [t for t in tasks if t not in records]
-    failed: list[Failure] = []
-    if todo:
-        from tqdm.auto import tqdm
-        bar = tqdm(total=len(todo), desc=f"{kind} sweep", unit="task",
-                   disable=None if progress else True)
-        bar.set_postfix(skipped=skipped)
-        engine = (_run_groups(todo, spec, workers, scheduler) if _batchable(spec)
-                  else _run_local(todo, spec, workers) if scheduler is None
-                  else _run_dask(todo, spec, scheduler))
-        try:
-            for task, rec, err in engine:
-                if err is not None:
-                    failed.append(Failure(task, str(err) if isinstance(err, TaskFailed)
-                                          else f"{type(err).__name__}: {err}"))
-                else:
-                    _write_task(work / f"{task.stem(key)}.h5", rec, spec, key)
-                    records[task] = rec
-                bar.update(1)
-        finally:
-            bar.close()
-            engine.close()                    # an interrupt stops the workers now
-    order = {t: i for i, t in enumerate(tasks)}
-    failed.sort(key=lambda f: order[f.task])
-    done = [records[t] for t in tasks if t in records]
+    if work_dir is not None:
+        work_dir = _path(work_dir, "work_dir")           # bytes, NUL, "" checked
+        _refuse_old_task_files(Path(work_dir))
+    if out is not None:
+        out = _path(out, "out")
+    seeds = [int(first_seed) + r for r in range(realisations)]
+    grid = {"N": Ns, "tau": taus, "seed": seeds}
+    study = run_study(kind, grid, _study_settings(spec), spec.t_max, work_dir=work_dir,
+                      overwrite=overwrite, workers=workers, scheduler=scheduler,
+                      progress=progress)
+    failed = [Failure(Task(kind, int(c["N"]), float(c["tau"]), int(c["seed"])), msg)
+              for c, msg in study.failed]
+    order = {(t, N, s): i for i, (t, N, s) in
+             enumerate((t, N, s) for t in taus for N in Ns for s in seeds)}
+    failed.sort(key=lambda f: order[(f.task.tau, f.task.N, f.task.seed)])
+    done = _study_records(kind, study.dataset, {(f.task.N, f.task.tau, f.task.seed)
+                                                for f in failed})
+    n_tasks = len(taus) * len(Ns) * realisations
     # one name per idea: the merged file says tau and t_end, as the arguments do
     params = {"kind": kind, "tau": np.array(taus), "Ns": np.array(Ns),
               "realisations": realisations, "t_end": spec.t_max, "model": model,
               "alpha": spec.alpha, "first_seed": int(first_seed), "method": spec.method,
               "task_options": json.dumps(dict(spec.options), sort_keys=True, default=_jsonable),
-              "sweep_key": key, "n_tasks": len(tasks), "n_failed": len(failed)}
-    _write_merged(Path(out), kind, done, params)
-    return {"out": str(out), "work_dir": str(work), "n_tasks": len(tasks),
-            "computed": len(todo) - len(failed), "skipped": skipped,
+              "sweep_key": study.dataset.attrs["study_key"], "n_tasks": n_tasks,
+              "n_failed": len(failed)}
+    if out is not None:
+        _write_merged(Path(out), kind, done, params)
+    return {"out": str(out) if out is not None else None,
+            "work_dir": str(work_dir) if work_dir is not None else None, "n_tasks": n_tasks,
+            "computed": study.computed, "skipped": study.reused,
             "failed": failed, "records": done,
-            "summary": _summary(kind, done, taus, Ns)}
+            "summary": _summary(kind, done, taus, Ns), "study": study}
+
+
+#: a task file of run_sweep before the study engine: <kind>_N<N>_tau<tau>_seed<seed>_<hash>.h5
+_OLD_TASK_FILE = re.compile(r"(blowup|chaos)_N\d+_tau[^_]+_seed\d+_[0-9a-f]{10}\.h5")
+
+
+def _refuse_old_task_files(work: Path) -> None:
+    """ValueError if `work` holds task files of run_sweep before the study engine (never
+    ignored, never overwritten)."""
+    if not work.is_dir():
+        return
+    old = sorted(p.name for p in work.iterdir() if _OLD_TASK_FILE.fullmatch(p.name))
+    if old:
+        raise ValueError(
+            f"work_dir {str(work)!r} holds {len(old)} task file(s) of an older run_sweep (e.g. "
+            f"{old[0]}), which the study engine does not read: finish that sweep with the "
+            "fputlab that started it, or give a new work_dir (the old files are left as they are)")
+
+
+def _study_settings(spec: SweepSpec) -> dict:
+    """The study settings of a sweep's shared parameters (a fixed sample grid up to t_end for
+    chaos: lyapunov's, so the records are lyapunov's numbers)."""
+    opts = dict(spec.options)
+    s = {"model": spec.model, "alpha": spec.alpha, "method": spec.method}
+    if spec.kind == "blowup":
+        if "progress" in opts:
+            raise ValueError("progress: not an option of blowup tasks (run_sweep's own "
+                             "progress shows the study's)")
+        s.update(opts)
+        return s
+    from .chaos.single import _C
+    for name in ("w0", "t0", "progress"):
+        if name in opts:
+            raise ValueError(f"{name}: not an option of chaos sweeps (chaos studies start "
+                             "every orbit at t = 0 with random deviation vectors)")
+    if "seed" in opts:
+        opts["deviation_seed"] = opts.pop("seed")
+    if opts.get("y0") is not None:
+        opts["y0"] = [float(v) for v in np.asarray(opts["y0"], float).ravel()]
+    opts["sample_grid_end"] = spec.t_max
+    opts["n_samples"] = opts.get("n_samples") or _C["n_samples"]
+    s.update(opts)
+    return s
+
+
+def _study_records(kind: str, ds, failed: set) -> list[dict]:
+    """One record per finished task of a study's dataset, in the order tau, N, seed, as
+    `run_task` gives them."""
+    reached = ds["t_reached"].values
+    t_end = float(ds.attrs["t_end"])
+    arrays = {name: ds[name].values for name in ds.data_vars
+              if ds[name].dims[:3] == ("N", "tau", "seed")}
+    out = []
+    for j, tau in enumerate(ds["tau"].values):
+        for i, N in enumerate(ds["N"].values):
+            for r, seed in enumerate(ds["seed"].values):
+                if not np.isfinite(reached[i, j, r]) or (int(N), float(tau), int(seed)) in failed:
+                    continue
+                o = {name: a[i, j, r] for name, a in arrays.items()}
+                rec: dict[str, Any] = {"kind": kind, "N": int(N), "tau": float(tau),
+                                       "seed": int(seed)}
+                if kind == "blowup":
+                    rec.update(blew_up=bool(o["blew_up"]), time=float(o["time"]),
+                               criterion=str(o["criterion"]), t_reached=float(o["t_reached"]),
+                               tau_c=float(o["tau_c"]))
+                else:
+                    t = np.asarray(o["t_sample"], float)
+                    k = int(np.sum(np.isfinite(t)))
+                    blew = bool(o["blew_up"])
+                    rec.update(mle=float(o["mle"]), sali=float(o["sali"]),
+                               classification=str(o["orbit_class"]),
+                               t_final=float(o["t_final"]), chaotic=bool(o["chaotic"]),
+                               t_chaotic=float(o["t_chaotic"]), steps=int(o["steps"]),
+                               completed=bool(o["finished"]) and not blew and (
+                                   bool(o["chaotic"]) or float(o["t_final"]) >= t_end),
+                               blew_up=blew, t_blowup=float(o["t_blowup"]),
+                               t=t[:k], mle_t=np.asarray(o["mle_t"], float)[:k],
+                               sali_t=np.asarray(o["sali_t"], float)[:k])
+                out.append(rec)
+    return out
 
 
 def _summary(kind: str, records: list[dict], taus, Ns) -> list[dict]:

@@ -13,21 +13,22 @@ drifts). `recurrence_quality` reduces one run to two numbers: the largest s_1 in
 smallest s_1 before t_r / 2 (how much was given away). A run that crosses the potential barrier
 (a bond stretched past it, `Lattice.barrier`) stops there and is counted as a blow-up.
 
-A task is cheap (about a second at N = 64), so a larger t_end runs it again from the start
-rather than keeping its state.
+A task is the "run" kind's (`fputlab.sampled`: the same samples, bit for bit) reduced to the
+shares. It is cheap (about a second at N = 64), so a larger t_end runs it again from the start
+rather than keeping its state (the stored recurrence studies hold none).
 """
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
+from . import _lowlevel as ll
 from ._validate import _real
 from .chaos.ensemble import _check_values
 from .engine import StudyKind
-from .integrate import integrate
-from .lattice import MODELS, Lattice
+from .lattice import MODELS
+from .sampled import n_sample_times, sampled_run
 
 __all__ = ["RECURRENCE_KIND", "RecurrenceKind", "recurrence_quality", "recurrence_time"]
 
@@ -103,8 +104,7 @@ class RecurrenceKind(StudyKind):
         return [_run_one(settings, c["N"], c["tau"], c["seed"], t_end) for c in coords]
 
     def extra_sizes(self, settings, t_end):
-        return {"sample": int(math.floor(t_end / settings["sample_every"] + 1e-9)) + 1,
-                "mode": 4}
+        return {"sample": n_sample_times(t_end, settings["sample_every"]), "mode": 4}
 
     def extra_coords(self, settings, arrays):
         n = arrays["share"].shape[-2]
@@ -116,27 +116,16 @@ class RecurrenceKind(StudyKind):
 
 
 def _run_one(settings, N, tau, seed, t_end) -> dict:
-    cpu0 = time.process_time()
-    model = settings["model"]
-    lat = Lattice(N, settings["alpha"], model=model, tau=tau if model != "homogeneous" else 0.0,
-                  seed=seed)
-    lower, upper = lat.barrier
-    stops = []
-    if math.isfinite(lower) or math.isfinite(upper):
-        stops = [("stretch", min(-lower, upper))]
-    every = settings["sample_every"]
-    n = int(math.floor(t_end / every + 1e-9)) + 1
-    run = integrate(lat, t_end, method=settings["method"], dt=settings["dt"],
-                    times=every * np.arange(n), stop_on=stops or None, on_failure="return")
-    E = np.asarray(run.mode_energies, float)
-    share = np.full((n, 4), np.nan)
-    share[:E.shape[0]] = E[:, :4] / E.sum(axis=1, keepdims=True)
-    t_reached = float(run.t[-1]) if len(run.t) else 0.0
-    blew_up = run.event is not None or not run.completed
-    values = {"share": share, "t_stop": t_reached, "blew_up": bool(blew_up),
-              "message": run.message or ""}
-    return {"t": t_end, "done": bool(blew_up), "message": run.message or "",
-            "cpu": time.process_time() - cpu0, "values": values, "state": None}
+    """The "run" kind's task from the start (all N modes), reduced to the shares of modes 1-4."""
+    run = sampled_run({**settings, "rtol": ll.RTOL, "atol": ll.ATOL}, N, tau, seed, None, t_end)
+    E = run["values"]["E"]
+    share = E[:, :4] / E.sum(axis=1, keepdims=True)      # NaN after a blow-up
+    v = run["values"]
+    values = {"share": share, "t_stop": v["t_reached"] if v["blew_up"] else
+              float(settings["sample_every"] * (E.shape[0] - 1)),
+              "blew_up": v["blew_up"], "message": v["message"]}
+    return {"t": t_end, "done": v["blew_up"], "message": v["message"], "cpu": run["cpu"],
+            "values": values, "state": None}
 
 
 RECURRENCE_KIND = RecurrenceKind()

@@ -83,7 +83,7 @@ def test_local_pool_equals_dask(tmp_path, dask_cluster, spec):
 def test_resume_recomputes_only_missing_tasks(tmp_path):
     first = _sweep(tmp_path, "s", BLOWUP, workers=2)
     work = tmp_path / "s.d"
-    files = sorted(work.glob("*.h5"))
+    files = sorted((work / "tasks").glob("*.h5"))         # the study engine's task files
     assert len(files) == first["n_tasks"] == 12 and first["skipped"] == 0
     merged1 = load_sweep(tmp_path / "s.h5")
     victim = files[5]
@@ -93,17 +93,48 @@ def test_resume_recomputes_only_missing_tasks(tmp_path):
     assert (second["computed"], second["skipped"]) == (1, 11)
     assert victim.exists()
     assert all(p.stat().st_mtime_ns == m for p, m in mtimes.items())   # the others untouched
-    _assert_same(merged1, load_sweep(tmp_path / "s.h5"))
-    # a file that does not read back (truncated) is recomputed as well
+    _assert_same(merged1, load_sweep(tmp_path / "s.h5"), ignore_attrs=())
+    # a file that does not read back (truncated) is reported, never silently recomputed over
     victim.write_bytes(b"not hdf5")
+    with pytest.raises(ValueError, match="unreadable task result"):
+        _sweep(tmp_path, "s", BLOWUP, workers=1)
+    victim.unlink()
     third = _sweep(tmp_path, "s", BLOWUP, workers=1)
     assert (third["computed"], third["skipped"]) == (1, 11)
     _assert_same(merged1, load_sweep(tmp_path / "s.h5"))
-    assert not list(work.glob(".*tmp"))                  # no temporary files left behind
-    # a different t_max is a different sweep: nothing is reused
-    other = run_sweep("blowup", [10.0], [8], 1, t_end=200.0, work_dir=work,
+    assert not [p for p in work.rglob("*") if ".tmp" in p.name]   # no temporaries left behind
+    # another sweep in the same directory is refused (a new work_dir, or overwrite=True)
+    with pytest.raises(ValueError, match="another study"):
+        run_sweep("blowup", [10.0], [8], 1, t_end=200.0, work_dir=work,
+                  out=tmp_path / "o.h5", progress=False)
+    other = run_sweep("blowup", [10.0], [8], 1, t_end=200.0, work_dir=tmp_path / "o.d",
                       out=tmp_path / "o.h5", progress=False)
     assert other["skipped"] == 0 and other["computed"] == 1
+
+
+def test_a_larger_t_end_continues_the_sweep(tmp_path):
+    """A sweep run to t1 and then to t2 holds the blow-up times of one run straight to t2, bit
+    for bit (yoshida4: fixed step), and the unfinished runs continue from their saved state."""
+    spec = dict(BLOWUP, t_end=200.0)
+    short = _sweep(tmp_path, "g", spec, workers=2)
+    longer = _sweep(tmp_path, "g", BLOWUP, workers=2)
+    straight = _sweep(tmp_path, "h", BLOWUP, workers=2)
+    assert longer["skipped"] == sum(r["blew_up"] for r in short["records"])
+    assert longer["study"].resumed == 12 - longer["skipped"]
+    _assert_same(load_sweep(tmp_path / "g.h5"), load_sweep(tmp_path / "h.h5"))
+
+
+def test_a_work_dir_of_the_old_run_sweep_is_refused(tmp_path):
+    work = tmp_path / "old.d"
+    work.mkdir()
+    old = work / "blowup_N64_tau10.0_seed1_0123456789.h5"
+    old.write_bytes(b"a task of run_sweep before the study engine")
+    with pytest.raises(ValueError, match="older run_sweep.*blowup_N64_tau10.0_seed1_"):
+        run_sweep("blowup", [10.0], [8], 1, t_end=10.0, work_dir=work, out=tmp_path / "o.h5",
+                  progress=False)
+    assert old.read_bytes() == b"a task of run_sweep before the study engine"
+    assert sorted(p.name for p in work.iterdir()) == [old.name]     # nothing added
+    assert not (tmp_path / "o.h5").exists()
 
 
 def test_merged_blowup_matches_direct_call(tmp_path):
@@ -189,8 +220,22 @@ def test_failed_tasks_are_reported_and_retried(tmp_path, dask_cluster, engine):
     assert out["computed"] == 1 and [f.task.seed for f in out["failed"]] == [1, 3]
     assert all(f.message.startswith("IntegrationError: state became non-finite")
                for f in out["failed"])
-    assert len(list((tmp_path / "w").glob("*.h5"))) == 1
+    # nothing finished is stored of the failed tasks (at most a good piece before the failure)
+    reached = out["study"].to_xarray()["t_reached"].values.ravel()
+    assert reached[1] == 500.0 and np.all(np.nan_to_num(reached[[0, 2]]) < 500.0)
     m = load_sweep(tmp_path / "f.h5")
     assert list(m["seed"]) == [2] and m["attrs"]["n_failed"] == 2 and m["attrs"]["n_tasks"] == 3
     again = run_sweep(*args, **opts, **kw)
     assert again["skipped"] == 1 and len(again["failed"]) == 2
+
+
+def test_the_command_line_refuses_an_old_work_dir_in_one_line(tmp_path, capsys):
+    from fputlab.cli import main
+    work = tmp_path / "s.h5.tasks"
+    work.mkdir()
+    (work / "blowup_N8_tau10.0_seed1_0123456789.h5").write_bytes(b"old")
+    assert main(["sweep", "--out", str(tmp_path / "s.h5"), "--tau", "10", "--N", "8",
+                 "--realisations", "1", "--t-end", "5", "--workers", "1", "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "older run_sweep" in err and "\n" not in err and "Traceback" not in err
+    assert not (tmp_path / "s.h5").exists()

@@ -20,7 +20,7 @@ LAYERS = [
     ("model", {"lattice", "modes", "initial_states"}),
     ("integrate", {"integrate"}),
     ("analysis", {"analysis", "chaos", "chaos_batch", "blowup", "reduction", "thermalization",
-                  "recurrence"}),
+                  "recurrence", "sampled"}),
     ("files and ensembles", {"io", "ensemble", "study", "thermalization_study"}),
     ("plots and figures", {"plotting", "figures", "figures_reduction", "figures_open", "demo",
                            "figures_thermalization"}),

@@ -199,7 +199,9 @@ def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
     if prevs[0] is not None:
         st = [p["state"] for p in prevs]
         b.set_orbits([int(x["steps"]) for x in st], [float(x["t"]) for x in st],
-                     np.stack([np.asarray(x["y"], float) for x in st]),
+                     # a state saved by a single-orbit call is (1 + n_dev, 2N), by lanes flat:
+                     # the same numbers in the same order
+                     np.stack([np.asarray(x["y"], float).ravel() for x in st]),
                      np.stack([chaos_accumulators(x["acc"]) for x in st]))
     b.advance(t_end, *arrays)
     cpu = (time.process_time() - cpu0) / R
@@ -240,6 +242,7 @@ class ChaosKind(StudyKind):
                         # saved before it continue (chaos_accumulators)
     dims = ("N", "tau", "seed")
     batch = 4
+    resumable = True
     variables = {
         "orbit_class": ((), str, "", "class of the orbit at t_end (chaotic, regular, blow-up, "
                                      "undecided)"),
@@ -325,6 +328,10 @@ class ChaosKind(StudyKind):
 
     def cost(self, coords, settings):
         return float(coords["N"])
+
+    def quantum(self, settings):
+        # a call cut short ends on a renormalisation (and a step of the fixed-step methods)
+        return max(settings["renorm_interval"], settings["dt"] or 0.0)
 
     def run(self, settings, coords, previous, t_end):
         if len(coords) == 1 or settings["method"] not in BATCH_METHODS:
