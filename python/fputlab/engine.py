@@ -38,6 +38,7 @@ KINDS = {
     "chaos": "fputlab.chaos.ensemble:CHAOS_KIND",
     "recurrence": "fputlab.recurrence:RECURRENCE_KIND",
     "spectrum": "fputlab.chaos.spectrum:SPECTRUM_KIND",
+    "thermalization": "fputlab.thermalization_study:THERMALIZATION_KIND",
 }
 
 
