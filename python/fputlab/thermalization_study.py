@@ -331,8 +331,12 @@ def _point_result(ds, *, threshold: float, n_boot: int, seed: int) -> dict:
     e = np.asarray(ds["wave_energy"].values, float)                    # (R, S, M)
     t = np.asarray(ds["t"].values if "t" in ds.coords else ds["t_sample"].values, float)
     failed = np.asarray(ds["failed"].values, bool)
-    started = np.isfinite(np.asarray(ds["t_reached"].values, float))
-    keep = started & ~failed
+    reached = np.asarray(ds["t_reached"].values, float)
+    started = np.isfinite(reached)
+    # the orbits that reached the point's time (a block still running, or stopped between the
+    # engine's horizons, joins once it has caught up)
+    top = np.max(reached[started & ~failed]) if np.any(started & ~failed) else 0.0
+    keep = started & ~failed & (reached >= top * (1 - 1e-12))
     row = {"t_eq": math.nan, "interval": (math.nan, math.nan), "t_reached": 0.0,
            "eta_last": math.nan, "energy_error": math.nan, "orbits": int(keep.sum()),
            "failed": int((started & failed).sum()), "cpu": 0.0}
@@ -578,8 +582,12 @@ class ThermalizationStudy:
                  if (self._block_dir(point, b) / "study.json").exists()]
         if not parts:
             return None
-        n = min(p.sizes["sample"] for p in parts)
-        parts = [p.isel(sample=slice(0, n)) for p in parts]
+        # a block behind the others (still catching up) has fewer samples: NaN-padded (its
+        # orbits do not count until they have reached the point's time, `_point_result`)
+        n = max(p.sizes["sample"] for p in parts)
+        longest = next(p for p in parts if p.sizes["sample"] == n)
+        parts = [p.drop_vars("t").pad(sample=(0, n - p.sizes["sample"])).assign_coords(
+            t=longest["t"]) for p in parts]
         return xr.concat(parts, dim="orbit", data_vars="minimal", coords="minimal",
                          compat="override", combine_attrs="override")
 

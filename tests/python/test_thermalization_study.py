@@ -290,3 +290,22 @@ def test_example_draws_from_the_stores(tmp_path):
     fit = study.results()["fit"]
     assert f"tiny: T_eq ~ eps^-{fit['exponent']:.2f}" in out
     assert (tmp_path / "t.png").stat().st_size > 10_000
+
+
+def test_readme_and_docs_tables_are_the_stored_studies():
+    """The exponent tables of the README and docs/thermalization.md are generated from the
+    committed studies (studies/thermalization/<study>/, engine stores): their text equals the
+    table computed from the stores now."""
+    import re
+    from pathlib import Path
+    from fputlab.figures_thermalization import TABLE_ROWS, markdown_table
+    root = Path(__file__).resolve().parents[2]
+    res = {label: ThermalizationStudy(root / "studies" / "thermalization" / label).results()
+           for label in {row[0] for row in TABLE_ROWS}}
+    table = markdown_table(res)
+    for page in ("README.md", "docs/thermalization.md"):
+        blocks = re.findall(r"<!-- thermalization-table -->\n(.*?)\n<!-- end -->",
+                            (root / page).read_text(), re.S)
+        assert blocks, f"{page} has no generated thermalization table"
+        for block in blocks:
+            assert block.strip() == table
