@@ -43,11 +43,10 @@ import numpy as np
 from ._errors import IntegrationError
 from ._validate import _int, _real
 from .engine import StudyKind, load_study, run_study
-from .initial_states import boundary_of, random_phases, wave_energies
+from .initial_states import random_phases, wave_energies
 from .integrate import Integrator, method_info
 from .lattice import Lattice
-from .thermalization import (effective_modes, equipartition_time, fit_power_law,
-                             information_entropy)
+from .thermalization import equipartition_time, fit_power_law, information_entropy
 
 __all__ = ["ThermalizationStudy", "ThermalizationSpec", "ThermalizationKind",
            "THERMALIZATION_KIND", "STUDIES", "EPS_KINDS", "FIT_RANGES", "check_spec",
@@ -263,17 +262,19 @@ def _run_orbit(settings: dict, eps: float, orbit: int, prev, t_end: float) -> di
         it.restore(int(st["steps"]), float(st["t"]), np.asarray(st["y"], float).reshape(1, -1))
         # sub-samples at times <= taken_until were taken before (a migrated state: just below
         # its last sample, whose time the next windows start at)
-        t_prev = float(st["taken_until"] if "taken_until" in st else prev["t"])
+        t_prev = float(st["taken_until"]) if "taken_until" in st else \
+            float(prev["t"]) * (1 + 1e-12)
         n_done = int(st["n_samples"])
         pend_t = np.asarray(st["pend_t"], float)
         pend_e = np.asarray(st["pend_e"], float).reshape(-1, M)
         pend_en = np.asarray(st["pend_en"], float)
     # the samples ahead: those up to t_end are finished now; the windows of the next ones may
     # start before t_end (their early sub-samples are taken now and kept in the state)
+    upto = t_end * (1 + 1e-12)                  # a sample at t_end (up to rounding) is taken
     ahead = sample_times(settings, 2 * t_end + 2 * _window(settings) + 1.0)[n_done:]
     subs = _sub_times(settings, ahead)                       # (A, sub)
     flat = subs.ravel()
-    new = (flat > t_prev) & (flat <= t_end * (1 + 1e-12))
+    new = (flat > t_prev) & (flat <= upto)
     order = np.flatnonzero(new)[np.argsort(flat[new], kind="stable")]
     e_all = np.full((flat.size, M), np.nan)
     en_all = np.full(flat.size, np.nan)
@@ -292,7 +293,7 @@ def _run_orbit(settings: dict, eps: float, orbit: int, prev, t_end: float) -> di
     except IntegrationError as err:
         # an alpha-FPUT orbit can cross its barrier (blow-up): it leaves the ensemble
         message, failed = str(err), True
-    complete = ahead <= t_end * (1 + 1e-12)
+    complete = ahead <= upto
     for j in np.flatnonzero(complete):
         rows = slice(j * sub, (j + 1) * sub)
         i = n_done + j
@@ -307,10 +308,10 @@ def _run_orbit(settings: dict, eps: float, orbit: int, prev, t_end: float) -> di
         vals["n_eff"][i] = math.exp(-S_i / M)
     n_new = n_done + int(complete.sum())
     keep = slice(int(complete.sum()) * sub, None)
-    taken = flat[keep] <= t_end * (1 + 1e-12)
+    taken = flat[keep] <= upto
     state = None if failed else {
         "steps": np.int64(it.steps), "t": np.float64(it.t), "y": it.state[0],
-        "n_samples": np.int64(n_new), "taken_until": np.float64(t_end),
+        "n_samples": np.int64(n_new), "taken_until": np.float64(upto),
         "pend_t": flat[keep][taken],
         "pend_e": e_all[keep][taken], "pend_en": en_all[keep][taken]}
     cpu = time.process_time() - cpu0

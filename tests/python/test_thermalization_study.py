@@ -17,7 +17,7 @@ from fputlab.cli import main
 from fputlab.engine import KINDS, run_study
 from fputlab.integrate import Integrator
 from fputlab.modes import mode_matrix
-from fputlab.thermalization import equipartition_time, first_crossing, fit_power_law
+from fputlab.thermalization import equipartition_time, first_crossing
 from fputlab.thermalization_study import (STUDIES, ThermalizationStudy, _point_result,
                                           check_spec, migrate_legacy, sample_times)
 
