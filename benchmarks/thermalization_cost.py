@@ -2,8 +2,9 @@
 time per step.
 
 Measured here: the process (CPU) time per unit of simulated time of one orbit of each built-in
-study, through the study's own task function (random-phase state, the study's method and dt,
-the windowed samples), so the projection charges what a study really pays. Projected: the cost
+study, through the study kind's own task (`run_study("thermalization", ...)`: random-phase
+state, the study's method and dt, the windowed samples), so the projection charges what a study
+really pays. Projected: the cost
 of a point eps with T_eq(eps) = C eps^-a, run by the driver to the first segment end past
 2 T_eq (about where 95 % of the bootstrap ensembles have crossed), for `orbits` orbits on one
 core. C and a come from a finished study directory (--study DIR: its fit) or the command line.
@@ -18,16 +19,22 @@ import math
 import time
 from dataclasses import replace
 
-from fputlab.thermalization_study import (STUDIES, ThermalizationStudy, projected_cost,
-                                          run_segment)
+from fputlab.thermalization_study import (STUDIES, THERMALIZATION_KIND, ThermalizationStudy,
+                                          projected_cost)
 
 
 def cpu_per_unit(spec, t_run: float) -> float:
-    """CPU seconds per unit of simulated time of one orbit of `spec` (segment 0 to t_run)."""
-    short = replace(spec, t_first=t_run, t_max=t_run)
-    run_segment(short, 0, 0, 0, None)                  # warm-up (imports, first-call costs)
+    """CPU seconds per unit of simulated time of one orbit of `spec` (0 to t_run), the kind's
+    task run in this process (the engine would run it in a worker)."""
+    grid, settings = THERMALIZATION_KIND.normalise({"eps": [spec.eps[0]], "orbit": [0, 1]},
+                                                   spec.settings(0))
+
+    def one(orbit):
+        THERMALIZATION_KIND.run(settings, [{"eps": grid["eps"][0], "orbit": orbit}], [None],
+                                t_run)
+    one(0)                                              # warm-up (imports, first-call costs)
     c0 = time.process_time()
-    run_segment(short, 0, 1, 0, None)
+    one(1)
     return (time.process_time() - c0) / t_run
 
 

@@ -17,20 +17,21 @@ the ensemble-averaged spectrum; :math:`\eta(t) = S(t)/S(0)`; T_eq = the first ti
 
 **Parameters:** the built-in studies of ``fputlab.thermalization_study``
 (docs/thermalization.md): α = 1, N = 32, band ±1..±4, :math:`\varepsilon = \alpha\sqrt{E/N}`
-= 0.06..0.11, 16 orbits (alpha); β = 1, :math:`\varepsilon = \beta E/N` = 0.02..1 (beta).
+= 0.05..0.11, 16-64 orbits per ε (alpha); β = 1, :math:`\varepsilon = \beta E/N` = 0.015..1
+(beta).
 
 **Shows:** the measured exponent next to Onorato et al.'s 8 (α) and Lvov & Onorato's 4 → 2 (β),
 and η(t) of every ε.
 
-**Run:** ``python examples/thermalization_teq.py [--summaries studies/thermalization] [--out PNG]``
-(draws from the committed study summaries; ``fputlab thermalization alpha --work-dir D``
-recomputes one, resumable, in about 10 CPU-minutes.)
+**Run:** ``python examples/thermalization_teq.py [--studies-dir studies/thermalization] [--out PNG]``
+(draws from the committed studies, engine stores analysed on the fly; ``fputlab thermalization
+alpha --work-dir D`` recomputes one, resumable, in about 10 CPU-minutes.)
 """
 import argparse
 from pathlib import Path
 
 from fputlab.figures_thermalization import thermalization_figure
-from fputlab.thermalization_study import load_summary
+from fputlab.thermalization_study import ThermalizationStudy
 
 try:
     ROOT = Path(__file__).resolve().parents[1]
@@ -40,13 +41,13 @@ except NameError:           # run by the docs gallery, which gives no __file__, 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--summaries", default=str(ROOT / "studies" / "thermalization"))
+    p.add_argument("--studies-dir", default=str(ROOT / "studies" / "thermalization"))
     p.add_argument("--studies", nargs="+", default=["alpha"])
     p.add_argument("--out", default="thermalization_teq.png")
     a = p.parse_args()
     if Path(a.out).exists():
         raise SystemExit(f"{a.out} exists; not overwritten (choose another --out)")
-    results = [load_summary(Path(a.summaries) / f"{s}.json") for s in a.studies]
+    results = [ThermalizationStudy(Path(a.studies_dir) / s).results() for s in a.studies]
     fig = thermalization_figure(results, a.out)
     for label, fit in fig.numbers.items():
         lo, hi = fit["interval"]

@@ -42,6 +42,7 @@ KINDS = {
     "recurrence": "fputlab.recurrence:RECURRENCE_KIND",
     "run": "fputlab.sampled:RUN_KIND",
     "spectrum": "fputlab.chaos.spectrum:SPECTRUM_KIND",
+    "thermalization": "fputlab.thermalization_study:THERMALIZATION_KIND",
 }
 
 #: the default bound of one call's CPU seconds (`run_study`'s max_call_seconds): a slow orbit's

@@ -22,7 +22,8 @@ PUBLISHED = {
 
 
 def thermalization_figure(results: list, path: str, *, title: str | None = None):
-    """Write the figure for one or more studies' `ThermalizationStudy.results()` to `path`.
+    """Write the figure for one or more studies' `ThermalizationStudy.results()` to `path`
+    (the merged results of the studies on the study engine).
 
     Left: T_eq(eps) with 90 % bootstrap intervals; points that never crossed are drawn as
     lower bounds at the time reached (open triangles); each study's fitted line is labelled
@@ -52,8 +53,10 @@ def thermalization_figure(results: list, path: str, *, title: str | None = None)
         hi = np.array([p["interval"][1] for p in pts])
         err = np.vstack([np.where(np.isfinite(lo), teq - lo, 0), np.where(np.isfinite(hi),
                                                                            hi - teq, 0)])
+        counts = sorted({p.get("orbits", spec["orbits"]) for p in pts})
+        orbits = f"{counts[0]}" if len(counts) == 1 else f"{counts[0]}-{counts[-1]}"
         ax.errorbar(eps[ok], teq[ok], yerr=err[:, ok], fmt="o", color=c, capsize=3,
-                    label=f"{label} (N = {spec['N']}, {spec['orbits']} orbits)")
+                    label=f"{label} (N = {spec['N']}, {orbits} orbits per ε)")
         reached = np.array([p["t_reached"] for p in pts])
         nb = ~ok & (reached > 0)
         if nb.any():
@@ -112,3 +115,57 @@ def thermalization_figure(results: list, path: str, *, title: str | None = None)
         fig.suptitle(title)
     fig.tight_layout()
     return save(fig, path, numbers)
+
+
+#: the rows of the README table: (study label, what is fitted: None (all points) or an eps
+#: range, the chain as written, the published value)
+TABLE_ROWS = [
+    ("alpha", None, "α-FPUT, ε = α√(E/N)", "8 (Onorato et al., PNAS 2015)"),
+    ("beta", (0.0, 0.07), "β-FPUT, ε = βE/N", "4 (Lvov & Onorato, PRL 2018)"),
+    ("beta", (0.1, 0.5), "β-FPUT, past the overlap", "2 (ibid.)"),
+    ("toda", None, "Toda (control), ε as α-FPUT", "no equipartition"),
+    ("disorder-nonlinear-5", None, "model 3, τ = 5 %", "—"),
+    ("disorder-nonlinear-10", None, "model 3, τ = 10 %", "—"),
+    ("disorder-hamiltonian-5", None, "model 2, τ = 5 %", "—"),
+    ("disorder-hamiltonian-10", None, "model 2, τ = 10 %", "—"),
+]
+
+
+def _sci(x: float) -> str:
+    """1.0×10⁶ style."""
+    e = int(math.floor(math.log10(x)))
+    sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"{x / 10 ** e:.1f}×10{sup}"
+
+
+def markdown_table(results: dict) -> str:
+    """The README / docs table of the measured exponents, from `ThermalizationStudy.results()`
+    of the built-in studies ({label: results}); tests/python/test_thermalization_study.py checks
+    that the committed pages hold exactly this."""
+    lines = ["| chain | ε fitted | orbits per ε | measured T_eq ∝ ε⁻ᵃ, a [90 % bootstrap] | "
+             "published |", "|---|---|---|---|---|"]
+    for label, rng, chain, published in TABLE_ROWS:
+        res = results[label]
+        pts = [p for p in res["points"]
+               if rng is None or rng[0] <= p["eps"] <= rng[1]]
+        crossed = [p for p in pts if math.isfinite(p["t_eq"])]
+        orbits = sorted({p["orbits"] for p in pts})
+        n = f"{orbits[0]}" if len(orbits) == 1 else f"{orbits[0]}–{orbits[-1]}"
+        if rng is None:
+            fit = res["fit"]
+        else:
+            fit = next((f for f in res["range_fits"] if tuple(f["range"]) == tuple(rng)), None)
+        if crossed and fit is not None:
+            e = [p["eps"] for p in crossed]
+            lo, hi = fit["interval"]
+            measured = f"{fit['exponent']:.2f} [{lo:.2f}, {hi:.2f}]"
+            span = f"{min(e):g}–{max(e):g}"
+        else:
+            e = [p["eps"] for p in pts]
+            span = ", ".join(f"{x:g}" for x in e)
+            etas = ", ".join(f"{p['eta_last']:.2f}" for p in pts)
+            t = min(p["t_reached"] for p in pts)
+            measured = f"no crossing of η = {res['spec']['threshold']:g}: η = {etas} at t = " \
+                       f"{_sci(t)}"
+        lines.append(f"| {chain} | {span} | {n} | {measured} | {published} |")
+    return "\n".join(lines)

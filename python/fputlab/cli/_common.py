@@ -10,18 +10,28 @@ from .._display import dumps_strict
 
 def _lattice(a):
     from ..lattice import Lattice
-    if a.model == "homogeneous":
+    boundary = getattr(a, "boundary", "fixed")
+    if a.model in ("homogeneous", "toda"):
         _homogeneous_check(a)
-        return Lattice(a.N, a.alpha, a.model, beta=a.beta)
-    return Lattice(a.N, a.alpha, a.model, beta=a.beta, tau=a.tau, seed=a.seed, disorder=a.disorder)
+        return Lattice(a.N, a.alpha, a.model, beta=a.beta, boundary=boundary)
+    return Lattice(a.N, a.alpha, a.model, beta=a.beta, tau=a.tau, seed=a.seed, disorder=a.disorder,
+                   boundary=boundary)
+
+
+#: the models without disorder
+_ORDERED = ("homogeneous", "toda")
 
 
 def _homogeneous_check(a):
-    """The homogeneous model has no disorder: a --tau given with it is refused, not ignored."""
+    """The homogeneous and Toda chains have no disorder: a --tau given with them is refused,
+    not ignored; the Toda chain's potential is fixed by alpha: a --beta is refused."""
     taus = np.atleast_1d(np.asarray(a.tau if a.tau is not None else 0.0, dtype=float))
-    if a.model == "homogeneous" and getattr(a, "tau_given", False) and np.any(taus != 0):
-        raise ValueError(f"--tau {_g(taus.tolist())}: the homogeneous model has no disorder "
+    if a.model in _ORDERED and getattr(a, "tau_given", False) and np.any(taus != 0):
+        raise ValueError(f"--tau {_g(taus.tolist())}: the {a.model} model has no disorder "
                          "(use --model hamiltonian or nonlinear, or drop --tau)")
+    if a.model == "toda" and getattr(a, "beta", 0.0) != 0.0:
+        raise ValueError(f"--beta {_g(a.beta)}: the Toda chain has no quartic coupling of its "
+                         "own (its potential is fixed by --alpha); drop --beta")
 
 
 #: the most tasks one sweep may have (every task is a record in memory and a file on disk)
@@ -37,10 +47,16 @@ def _check_args(a):
     for name in ("out", "checkpoint", "plot", "work_dir", "out_dir"):
         if getattr(a, name, None) is not None:
             setattr(a, name, _path(getattr(a, name), "--" + name.replace("_", "-")))
+    boundary = getattr(a, "boundary", None)
+    if boundary is not None:
+        from ..lattice import BOUNDARIES
+        if boundary not in BOUNDARIES:
+            raise ValueError(f"--boundary {boundary!r} is unknown (known: "
+                             f"{', '.join(BOUNDARIES)})")
     if getattr(a, "seed", None) is not None:
         _seed(a.seed, "--seed")
-        if getattr(a, "model", None) == "homogeneous" and getattr(a, "seed_given", False):
-            raise ValueError(f"--seed {a.seed}: the homogeneous model has no disorder (use "
+        if getattr(a, "model", None) in _ORDERED and getattr(a, "seed_given", False):
+            raise ValueError(f"--seed {a.seed}: the {a.model} model has no disorder (use "
                              "--model hamiltonian or nonlinear, or drop --seed)")
     for name in ("dt", "rtol", "atol", "sample_every"):
         if getattr(a, name, None) is not None:

@@ -29,6 +29,9 @@ def cmd_chaos(a):
         opts["stop_when_chaotic"] = True
     if a.fraction:
         _ensemble_lattice_check(a)
+        if a.model == "toda" or a.boundary != "fixed":
+            raise ValueError("--model toda / --boundary periodic: one orbit only; the chaotic "
+                             "fraction runs the paper's fixed chains of models 1-3")
         out = chaotic_fraction(Ns=a.N, realisations=a.realisations, tau=a.tau, t_end=a.t_end,
                                model=a.model, alpha=a.alpha, method=a.method, first_seed=a.seed,
                                workers=a.workers, scheduler=a.scheduler, progress=not a.json,
@@ -89,7 +92,8 @@ def _parser_chaos(sub, parents):
                        f"fputlab.Lattice(); {C['model']} for the fraction, as chaotic_fraction)",
                  tau=f"variability in percent (default {_g(L['tau'])} for one orbit; "
                      f"{_g(C['tau'])} for the fraction)",
-                 seed="disorder seed; the fraction uses SEED, SEED + 1, ... (default 1)"),
+                 seed="disorder seed; the fraction uses SEED, SEED + 1, ... (default 1)",
+                 single=True),
                  _integrator_options(method=f"integrator (default {Y['method']} for one orbit; "
                                      "srkn14a6 for the fraction)",
                                      dt="fixed step (default 0.01; the fraction's srkn14a6: 0.5)"),

@@ -19,6 +19,9 @@ import sys
 from ._common import _g
 
 MODELS = ["homogeneous", "hamiltonian", "nonlinear"]
+#: the models of the single-lattice forms (simulate, chaos of one orbit): also the Toda chain
+SINGLE_MODELS = MODELS + ["toda"]
+BOUNDARIES = ["fixed", "periodic"]
 DISORDERS = ["gaussian", "truncated", "uniform"]
 #: the taus of `fputlab sweep --kind blowup` (blowup_sweep has no default taus)
 SWEEP_BLOWUP_TAUS = [0.0, 5.0, 10.0, 15.0, 20.0]
@@ -78,10 +81,12 @@ def _alias(p, old: str, new: str, dest: str, **kw):
 
 
 def _lattice_options(*, N: str, model: str, tau: str, several: tuple = (),
-                     seed: str = "disorder seed (default 1)") -> argparse.ArgumentParser:
+                     seed: str = "disorder seed (default 1)",
+                     single: bool = False) -> argparse.ArgumentParser:
     """Parent parser: the lattice. N, model and tau are described by the subcommand (their
     defaults depend on its form); several: those of "N", "tau" that take several values
-    (ensembles)."""
+    (ensembles); single: the command has a single-lattice form (simulate, chaos), which also
+    takes --model toda and --boundary."""
     L = python_defaults()["Lattice"]
     p = argparse.ArgumentParser(add_help=False)
     g = p.add_argument_group("lattice")
@@ -90,7 +95,14 @@ def _lattice_options(*, N: str, model: str, tau: str, several: tuple = (),
                    f"coupling (default {_g(L['alpha'])})")
     g.add_argument("--beta", type=float, default=L["beta"],
                    help=f"quartic coupling (default {_g(L['beta'])})")
-    g.add_argument("--model", default=None, choices=MODELS, help=model)
+    g.add_argument("--model", default=None, choices=SINGLE_MODELS if single else MODELS,
+                   help=model + ("; toda: the integrable Toda chain, homogeneous, with "
+                                 "--beta 0" if single else ""))
+    if single:
+        # checked in _common._check_args (one line), not by argparse's choices (its usage too)
+        g.add_argument("--boundary", default=L["boundary"], metavar="{fixed,periodic}",
+                       help="fixed: walls at both ends (the paper); periodic: a ring of N "
+                       f"particles (default {L['boundary']}, as fputlab.Lattice())")
     # default None: whether --tau was given matters (the homogeneous model refuses it)
     g.add_argument("--tau", type=float, nargs="+" if "tau" in several else None, default=None,
                    help=tau)

@@ -60,7 +60,8 @@ def _warn_undersampled(a, lat):
     import sys
     if a.sample_every is not None:
         return
-    period = 2 * math.pi / (2 * math.sin(math.pi / (2 * (lat.N + 1))))
+    k1 = math.pi / lat.N if lat.boundary == "periodic" else math.pi / (2 * (lat.N + 1))
+    period = 2 * math.pi / (2 * math.sin(k1))
     every = a.t_end / 1000
     if every > period:
         print(f"fputlab: warning: samples every {every:.4g} (t_end/1000) are longer than the "
@@ -78,7 +79,7 @@ def _parser_simulate(sub, parents):
                  N=f"particles (default {L['N']})",
                  model=f"lattice model (default {L['model']}, as fputlab.Lattice())",
                  tau=f"variability in percent (default {_g(L['tau'])}: no disorder; give it with "
-                     "--model hamiltonian or nonlinear)"),
+                     "--model hamiltonian or nonlinear)", single=True),
                  _integrator_options(method=f"integrator (default {I['method']})",
                                      dt="fixed step (default 0.01)"),
                  _time_options(1e4),

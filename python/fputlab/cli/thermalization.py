@@ -1,5 +1,6 @@
-"""`fputlab thermalization`: run a thermalization study in bounded, resumable pieces and report
-T_eq(eps) with its fitted exponent (a module of its own so that the CLI only registers it)."""
+"""`fputlab thermalization`: run a thermalization study (on the study engine) in bounded,
+resumable pieces and report T_eq(eps) with its fitted exponent (a module of its own so that the
+CLI only registers it)."""
 from __future__ import annotations
 
 import math
@@ -12,15 +13,21 @@ def add_parser(sub, formatter_class) -> None:
     s = sub.add_parser(
         "thermalization", formatter_class=formatter_class,
         help="equipartition times T_eq(eps) of random-phase ensembles (resumable study)",
-        description="Runs a built-in thermalization study in WORK_DIR (one file per orbit "
-        "and segment; rerun to continue) and prints T_eq for every eps with its bootstrap "
-        "interval and the fitted exponent. See docs/thermalization.md.")
+        description="Runs a built-in thermalization study in WORK_DIR (one engine study per "
+        "eps and block of orbits, t_end doubling until the ensemble eta crosses the threshold; "
+        "rerun to continue) and prints T_eq for every eps with its bootstrap interval and the "
+        "fitted exponent. See docs/thermalization.md.")
     s.add_argument("study", choices=sorted(STUDIES), help="the built-in study (required, no default)")
     s.add_argument("--work-dir", required=True, metavar="DIR",
                    help="study directory (created; continued when it holds the same study; "
                    "required, no default)")
     s.add_argument("--eps", type=float, nargs="+", help="eps values (default: the study's)")
-    s.add_argument("--orbits", type=int, help="orbits in the ensemble (default: the study's)")
+    s.add_argument("--orbits", type=int, help="orbits in the ensemble, a multiple of the "
+                   "study's block of 16 (4 for tiny); a stored study may grow (default: the "
+                   "study's)")
+    s.add_argument("--only-eps", type=float, nargs="+", metavar="EPS",
+                   help="run only these eps of the study (e.g. more orbits where they are "
+                   "cheap; default: every eps)")
     s.add_argument("--N", type=int, help="number of particles (default: the study's)")
     s.add_argument("--t-end", type=float, help="longest time t_max of every point (default: the "
                    "study's)")
@@ -31,7 +38,7 @@ def add_parser(sub, formatter_class) -> None:
     s.add_argument("--fit-range", type=float, nargs=2, action="append", metavar=("LO", "HI"),
                    help="also fit T_eq ~ eps^-a over LO <= eps <= HI; repeatable (default: the "
                    "study's ranges, beta: 0-0.07 and 0.1-0.5)")
-    s.add_argument("--workers", type=int, default=1, help="local worker processes")
+    s.add_argument("--workers", type=int, default=1, help="local worker processes (default 1)")
     s.add_argument("--figure", metavar="PNG", help="write the T_eq(eps) figure to this file")
     s.add_argument("--overwrite", action="store_true", help="allow --figure to replace a file")
     s.add_argument("--report-only", action="store_true",
@@ -66,25 +73,31 @@ def cmd_thermalization(a) -> int:
         if v is not None and not (math.isfinite(v) and v > 0):
             raise ValueError(f"--{name.replace('_', '-')} must be finite and > 0 (got {v:g})")
     spec = _spec(a)
+    points = None
+    if a.only_eps is not None:
+        missing = [e for e in a.only_eps if e not in spec.eps]
+        if missing:
+            raise ValueError(f"--only-eps: {missing} not among the study's eps "
+                             f"{list(spec.eps)}")
+        points = [spec.eps.index(e) for e in a.only_eps]
     study = ThermalizationStudy(a.work_dir, spec)
     complete = None
     if not a.report_only:
-        complete = study.run(t_until=a.t_until, max_seconds=a.max_seconds, workers=a.workers)
-    study.write_summary()
+        complete = study.run(t_until=a.t_until, max_seconds=a.max_seconds, workers=a.workers,
+                             points=points)
     res = study.results(fit_ranges=a.fit_range)
     sp = res["spec"]
     print(f"# {sp['label']}: model {sp['model']}, {sp['boundary']} N = {sp['N']}, "
           f"alpha = {sp['alpha']:g}, beta = {sp['beta']:g}, tau = {sp['tau']:g} %, band "
-          f"{list(sp['band'])}, {sp['orbits']} orbits, {sp['method']} dt = {sp['dt']:g}, "
+          f"{list(sp['band'])}, up to {sp['orbits']} orbits, {sp['method']} dt = {sp['dt']:g}, "
           f"eta threshold {sp['threshold']:g}")
-    print(f"{'eps':>7} {'E':>9} {'T_eq':>9} {'90% interval':>21} {'t reached':>10} "
-          f"{'eta(t)':>7} {'|dE/E|':>8} {'wall s':>7} {'CPU s':>7} {'lost':>4}")
+    print(f"{'eps':>7} {'E':>9} {'orbits':>6} {'T_eq':>9} {'90% interval':>21} "
+          f"{'t reached':>10} {'eta(t)':>7} {'|dE/E|':>8} {'CPU s':>8} {'lost':>4}")
     for p in res["points"]:
         lo, hi = p["interval"]
-        print(f"{p['eps']:7.4g} {p['E']:9.4g} {_fmt(p['t_eq']):>9} "
+        print(f"{p['eps']:7.4g} {p['E']:9.4g} {p['orbits']:6d} {_fmt(p['t_eq']):>9} "
               f"{'[' + _fmt(lo) + ', ' + _fmt(hi) + ']':>21} {_fmt(p['t_reached']):>10} "
-              f"{_fmt(p['eta_last']):>7} {_fmt(p['energy_error']):>8} {p['wall']:7.1f} "
-              f"{_fmt(p['cpu']):>7} "
+              f"{_fmt(p['eta_last']):>7} {_fmt(p['energy_error']):>8} {p['cpu']:8.1f} "
               f"{p['failed']:>4}")
     fit = res["fit"]
     if fit is None:
@@ -93,9 +106,10 @@ def cmd_thermalization(a) -> int:
         lo, hi = fit["interval"]
         print(f"fit: T_eq ~ eps^-a, a = {fit['exponent']:.3f}, 90% interval "
               f"[{_fmt(lo)}, {_fmt(hi)}] over {fit['points']} points")
-    print("(lost: orbits that crossed the alpha barrier and left the ensemble; |dE/E|: the "
-          "largest relative energy error of the kept orbits; wall and CPU (process) seconds "
-          "summed over the point's tasks, CPU '-' where older task files did not record it)")
+    print("(orbits: those with samples that did not fail; lost: orbits that crossed the alpha "
+          "barrier and left the ensemble; |dE/E|: the largest relative energy error of the "
+          "kept orbits; CPU (process) seconds summed over the point's orbits, wall seconds "
+          "where migrated files did not record CPU)")
     for f in res["range_fits"]:
         lo, hi = f["interval"]
         print(f"fit over {f['range'][0]:g} <= eps <= {f['range'][1]:g}: a = {f['exponent']:.3f}, "
