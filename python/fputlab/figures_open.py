@@ -465,10 +465,12 @@ def _power(t: float) -> str:
 
 def reached_markdown(loaded: dict, per_N: bool = True) -> str:
     """The README / docs table of how far each chaos study of the open questions has followed
-    its orbits, per study and N (per study only if not `per_N`): the orbits still undecided
-    (neither chaotic nor blown up) and the time every one of them has reached; "all decided"
-    where none is left. Generated from the stored studies (`loaded`: name -> OrbitOutcomes)."""
-    lines = ["| study | N | orbits | still undecided | followed to |", "|---|---|---|---|---|"]
+    its orbits, per study and N (per study only if not `per_N`): the orbits neither chaotic nor
+    blown up (regular or undecided: followed on) and the time every one of them has reached;
+    "all decided" where none is left. Generated from the stored studies (`loaded`: name ->
+    OrbitOutcomes)."""
+    lines = ["| study | N | orbits | neither chaotic nor blown up | followed to |",
+             "|---|---|---|---|---|"]
     for name in sorted(loaded, key=lambda n: (n != "monotone", n)):
         o = loaded[name]
         sizes = np.unique(o.N)
