@@ -878,18 +878,6 @@ FPL_INLINE void steps_homogeneous_body(const fpl_splitting *scheme, const fpl_la
     }
 }
 
-FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, double *y,
-                                      double dt, long nsteps)
-{
-    const fpl_lattice_ctx *c = ctx;
-    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
-        return;
-    if (c->lat->beta == 0.0)
-        steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
-    else
-        steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
-}
-
 /* n steps of the scheme with drift and kick inlined (fpl_split_system.steps): the operations of
  * fpl_split_step on the model's drift / kick in the same order, so bit-identical to it. */
 FPL_INLINE void steps_general_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
@@ -909,6 +897,44 @@ FPL_INLINE void steps_general_body(const fpl_splitting *scheme, const fpl_lattic
     }
 }
 
+/* The stage-by-stage steppers (0, 1 or 2 deviation vectors, or too many or too long for the
+ * many-vector steps), one out-of-line function per model and beta. noinline: inlined into
+ * steps_<model> beside the many-vector steppers, the kick loop lost its registers to that
+ * function's other live values (model 3 with one vector reloaded five pointers and spilled two
+ * vectors per iteration; 1.3-1.7x the hand-fused loop out of cache, benchmarks/roofline.c). The
+ * same code, so bit-identical. */
+#define FPL_HOT_APART FPL_HOT __attribute__((noinline))
+#define STEPS_FEW_HOM(name, cubic)                                                           \
+    FPL_HOT_APART static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,     \
+                                   double *y, double dt, long nsteps)                         \
+    {                                                                                         \
+        steps_homogeneous_body(scheme, c, y, dt, nsteps, cubic);                             \
+    }
+#define STEPS_FEW(name, ham, cubic)                                                          \
+    FPL_HOT_APART static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,     \
+                                   double *y, double dt, long nsteps)                         \
+    {                                                                                         \
+        steps_general_body(scheme, c, y, dt, nsteps, ham, cubic);                            \
+    }
+STEPS_FEW_HOM(steps_few_homogeneous_quad, 0)
+STEPS_FEW_HOM(steps_few_homogeneous_cubic, 1)
+STEPS_FEW(steps_few_hamiltonian_quad, 1, 0)
+STEPS_FEW(steps_few_hamiltonian_cubic, 1, 1)
+STEPS_FEW(steps_few_nonlinear_quad, 0, 0)
+STEPS_FEW(steps_few_nonlinear_cubic, 0, 1)
+
+FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, double *y,
+                                      double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
+        return;
+    if (c->lat->beta == 0.0)
+        steps_few_homogeneous_quad(scheme, c, y, dt, nsteps);
+    else
+        steps_few_homogeneous_cubic(scheme, c, y, dt, nsteps);
+}
+
 FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, double *y,
                                       double dt, long nsteps)
 {
@@ -916,9 +942,9 @@ FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, do
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
         return;
     if (c->lat->beta == 0.0)
-        steps_general_body(scheme, c, y, dt, nsteps, 1, 0);
+        steps_few_hamiltonian_quad(scheme, c, y, dt, nsteps);
     else
-        steps_general_body(scheme, c, y, dt, nsteps, 1, 1);
+        steps_few_hamiltonian_cubic(scheme, c, y, dt, nsteps);
 }
 
 FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, double *y,
@@ -928,9 +954,9 @@ FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, doub
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
         return;
     if (c->lat->beta == 0.0)
-        steps_general_body(scheme, c, y, dt, nsteps, 0, 0);
+        steps_few_nonlinear_quad(scheme, c, y, dt, nsteps);
     else
-        steps_general_body(scheme, c, y, dt, nsteps, 0, 1);
+        steps_few_nonlinear_cubic(scheme, c, y, dt, nsteps);
 }
 
 /* ---- anharmonic force (for the harmonic-split schemes, harmonic_split.c) ---------------- */
