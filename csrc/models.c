@@ -216,8 +216,8 @@ FPL_INLINE void kick_homogeneous_body(const fpl_lattice_ctx *c, double *y, doubl
     if (n_dev == 0) {
         kick_orbit_homogeneous(1, n - 1, x, p, a, b, h, NULL, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent_homogeneous(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, a, b, h,
-                                       cubic, 0);
+        kick_orbit_tangent_homogeneous(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, a,
+                                       b, h, cubic, 0);
     } else if (n_dev == 2) {
         kick_orbit_tangent_homogeneous(1, n - 1, x, p, y + stride, y + stride + n, y + 2 * stride,
                                        y + 2 * stride + n, a, b, h, cubic, 1);
@@ -401,8 +401,8 @@ FPL_INLINE void kick_general_body(const fpl_lattice_ctx *c, double *y, double h,
     if (n_dev == 0) {
         kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, cn, s, a, b,
-                                   h, ham, cubic, 0);
+        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, cn, s,
+                                   a, b, h, ham, cubic, 0);
     } else if (n_dev == 2) {
         kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, y + 2 * stride,
                                    y + 2 * stride + n, cn, s, a, b, h, ham, cubic, 1);
@@ -477,8 +477,8 @@ FPL_INLINE void kick_general_ring_body(const fpl_lattice_ctx *c, double *y, doub
     if (n_dev == 0) {
         kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, cn, s, a, b,
-                                   h, ham, cubic, 0);
+        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, cn, s,
+                                   a, b, h, ham, cubic, 0);
     } else if (n_dev == 2) {
         kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, y + 2 * stride,
                                    y + 2 * stride + n, cn, s, a, b, h, ham, cubic, 1);
@@ -1020,34 +1020,60 @@ FPL_INLINE int steps_fused(const fpl_splitting *scheme, const fpl_lattice_ctx *c
     return 1;
 }
 
-/* The stage-by-stage steppers (0, 1 or 2 deviation vectors, or too many or too long for the
- * many-vector steps), one out-of-line function per model and beta. noinline: inlined into
+/* The steppers with 0, 1 or 2 deviation vectors (stages fused) or too many or too long a chain
+ * for the many-vector steps (stage by stage), one out-of-line function per model and beta. noinline: inlined into
  * steps_<model> beside the many-vector steppers, the kick loop lost its registers to that
  * function's other live values (model 3 with one vector reloaded five pointers and spilled two
  * vectors per iteration; 1.3-1.7x the hand-fused loop out of cache, benchmarks/roofline.c). The
  * same code, so bit-identical. */
 #define FPL_HOT_APART FPL_HOT __attribute__((noinline))
-#define STEPS_FEW_HOM(name, cubic)                                                           \
-    FPL_HOT_APART static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,     \
-                                   double *y, double dt, long nsteps)                         \
-    {                                                                                         \
-        if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, cubic))             \
-            steps_homogeneous_body(scheme, c, y, dt, nsteps, cubic);                         \
-    }
-#define STEPS_FEW(name, ham, cubic)                                                          \
-    FPL_HOT_APART static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,     \
-                                   double *y, double dt, long nsteps)                         \
-    {                                                                                         \
-        if (!steps_fused(scheme, c, y, dt, nsteps,                                            \
-                         ham ? FPL_MODEL_HAMILTONIAN : FPL_MODEL_NONLINEAR, cubic))           \
-            steps_general_body(scheme, c, y, dt, nsteps, ham, cubic);                        \
-    }
-STEPS_FEW_HOM(steps_few_homogeneous_quad, 0)
-STEPS_FEW_HOM(steps_few_homogeneous_cubic, 1)
-STEPS_FEW(steps_few_hamiltonian_quad, 1, 0)
-STEPS_FEW(steps_few_hamiltonian_cubic, 1, 1)
-STEPS_FEW(steps_few_nonlinear_quad, 0, 0)
-STEPS_FEW(steps_few_nonlinear_cubic, 0, 1)
+FPL_HOT_APART static void steps_few_homogeneous_quad(const fpl_splitting *scheme,
+                                                     const fpl_lattice_ctx *c, double *y,
+                                                     double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0))
+        steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
+}
+
+FPL_HOT_APART static void steps_few_homogeneous_cubic(const fpl_splitting *scheme,
+                                                      const fpl_lattice_ctx *c, double *y,
+                                                      double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1))
+        steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
+}
+
+FPL_HOT_APART static void steps_few_hamiltonian_quad(const fpl_splitting *scheme,
+                                                     const fpl_lattice_ctx *c, double *y,
+                                                     double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0))
+        steps_general_body(scheme, c, y, dt, nsteps, 1, 0);
+}
+
+FPL_HOT_APART static void steps_few_hamiltonian_cubic(const fpl_splitting *scheme,
+                                                      const fpl_lattice_ctx *c, double *y,
+                                                      double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1))
+        steps_general_body(scheme, c, y, dt, nsteps, 1, 1);
+}
+
+FPL_HOT_APART static void steps_few_nonlinear_quad(const fpl_splitting *scheme,
+                                                   const fpl_lattice_ctx *c, double *y,
+                                                   double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0))
+        steps_general_body(scheme, c, y, dt, nsteps, 0, 0);
+}
+
+FPL_HOT_APART static void steps_few_nonlinear_cubic(const fpl_splitting *scheme,
+                                                    const fpl_lattice_ctx *c, double *y,
+                                                    double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1))
+        steps_general_body(scheme, c, y, dt, nsteps, 0, 1);
+}
 
 FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, double *y,
                                       double dt, long nsteps)
