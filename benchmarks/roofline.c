@@ -22,6 +22,11 @@
  * 2 also reads minv: + 8); a kick reads x, reads and writes p (24) and the same for each vector
  * (24 each), plus the coefficient arrays it streams (model 2: cn, s; model 3: cn). Yoshida 4 = 4
  * drifts + 3 kicks: model 1 with 2 vectors 504 bytes, model 3 528, model 2 576.
+ * fputlab's own step with up to 2 vectors is fused further (each stage's drift and kick one pass
+ * over the state, a step's last drift in the next step's first pass): 3 passes reading and
+ * writing x, p of each vector (32 bytes each) and reading the coefficients (model 2: minv, cn, s;
+ * model 3: cn), model 1 with 2 vectors 288 bytes, model 3 312, model 2 360 (column "fpl B",
+ * "fpl/fbnd" = fputlab against that traffic at the triad bandwidth).
  * Cost = process CPU time per particle-step (ns), best of the repeats (at least 10 steps each),
  * fputlab and plain C
  * interleaved in each repeat (the machine is shared). The plain step is checked against
@@ -237,6 +242,13 @@ static double step_bytes(int model, int k)
     return 4.0 * drift + 3.0 * kick;
 }
 
+/* Bytes per particle-step of fputlab's fused step (k <= 2; else the step above). */
+static double fused_step_bytes(int model, int k)
+{
+    if (k > 2) return step_bytes(model, k);
+    return 3.0 * (32.0 * (k + 1) + (model == 2 ? 24.0 : model == 3 ? 8.0 : 0.0));
+}
+
 /* Triad a = b + s c on 3 arrays of m doubles: bytes/s, best of `repeats`. */
 static double triad_bandwidth(int repeats)
 {
@@ -267,8 +279,9 @@ int main(int argc, char **argv)
     if (fpl_splitting_lookup("yoshida4", &yo)) return 1;
     const double bw = triad_bandwidth(repeats + 2);
     printf("triad bandwidth %.2f GB/s (3 x 64 MB, best of %d)\n", bw / 1e9, repeats + 2);
-    printf("%5s %8s %5s %9s %12s %12s %12s %9s %9s %9s %9s\n", "model", "N", "k", "bytes",
-           "fputlab", "plain C", "bound", "fpl/plain", "fpl/bound", "fpl/mod1", "per-vec");
+    printf("%5s %8s %5s %9s %12s %12s %12s %9s %9s %9s %9s %6s %8s\n", "model", "N", "k", "bytes",
+           "fputlab", "plain C", "bound", "fpl/plain", "fpl/bound", "fpl/mod1", "per-vec",
+           "fpl B", "fpl/fbnd");
     printf("%5s %8s %5s %9s %12s %12s %12s\n", "", "", "", "[B/p-st]", "[ns/p-st]", "[ns/p-st]",
            "[ns/p-st]");
     double t_model1[8][8] = {{0}}, t_orbit[8] = {0};
@@ -341,9 +354,10 @@ int main(int argc, char **argv)
                 char per_vec[16] = "";
                 if (k > 0) snprintf(per_vec, sizeof per_vec, "%.2f",
                                     (best_f - t_orbit[in]) / (k * t_orbit[in]));
-                printf("%5d %8d %5d %9.0f %12.3f %12.3f %12.3f %9.2f %9.2f %9.2f %9s\n", model, n,
-                       k, step_bytes(model, k), best_f * 1e9, best_p * 1e9, bound * 1e9,
-                       best_f / best_p, best_f / bound, best_f / t_model1[in][id], per_vec);
+                printf("%5d %8d %5d %9.0f %12.3f %12.3f %12.3f %9.2f %9.2f %9.2f %9s %6.0f %8.2f\n",
+                       model, n, k, step_bytes(model, k), best_f * 1e9, best_p * 1e9, bound * 1e9,
+                       best_f / best_p, best_f / bound, best_f / t_model1[in][id], per_vec,
+                       fused_step_bytes(model, k), best_f * bw / fused_step_bytes(model, k));
                 fflush(stdout);
                 free(a);
                 free(b);

@@ -128,11 +128,12 @@ FPL_HOT static void kick_generic(void *ctx, double *y, double h)
 #define PHI_C(d) (cubic ? PHI_H(d) : FPL_HOM_PHI_QUAD(d, a))
 #define KAP_C(d) (cubic ? KAP_H(d) : FPL_HOM_KAPPA_QUAD(d, a))
 
-FPL_INLINE void kick_orbit_homogeneous(int n, const double *restrict x, double *restrict p,
+FPL_INLINE void kick_orbit_homogeneous(int lo, int hi, const double *restrict x,
+                                       double *restrict p,
                                        double a, double b, double h, double *restrict kap,
                                        const int cubic)
 {
-    for (int i = 1; i < n - 1; i++) {
+    for (int i = lo; i < hi; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
         FPL_KICK_UNIT(p[i], h, PHI_C(dr), PHI_C(dl));
         if (kap) kap[i] = KAP_C(dl);
@@ -167,14 +168,14 @@ __attribute__((noipa)) static void kick_homogeneous_short(const fpl_lattice *lat
  * nothing but the state is streamed and kappa is not re-read once per vector (out of cache that
  * pass cost ~1.6x the plain-C roofline, benchmarks/roofline.c). Same expressions in the same
  * order as the vector-by-vector form below: bit-identical results. */
-FPL_INLINE void kick_orbit_tangent_homogeneous(int n, const double *restrict x,
+FPL_INLINE void kick_orbit_tangent_homogeneous(int lo, int hi, const double *restrict x,
                                                double *restrict p, const double *restrict u,
                                                double *restrict q, const double *restrict w,
                                                double *restrict r, double a, double b, double h,
                                                const int cubic, const int two)
 {
     /* `two` is a constant at every (inlined) call: the second vector's line is there or not */
-    for (int i = 1; i < n - 1; i++) {
+    for (int i = lo; i < hi; i++) {
         const double dl = x[i] - x[i - 1], dr = x[i + 1] - x[i];
         FPL_KICK_UNIT(p[i], h, PHI_C(dr), PHI_C(dl));
         const double kl = KAP_C(dl), kr = KAP_C(dr);
@@ -213,16 +214,16 @@ FPL_INLINE void kick_homogeneous_body(const fpl_lattice_ctx *c, double *y, doubl
     const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
     const double k0 = KAP_H(d0), k1 = KAP_H(d1), km = KAP_H(dm), kn = KAP_H(dn);
     if (n_dev == 0) {
-        kick_orbit_homogeneous(n, x, p, a, b, h, NULL, cubic);
+        kick_orbit_homogeneous(1, n - 1, x, p, a, b, h, NULL, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent_homogeneous(n, x, p, y + stride, y + stride + n, NULL, NULL, a, b, h,
-                                       cubic, 0);
+        kick_orbit_tangent_homogeneous(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, a,
+                                       b, h, cubic, 0);
     } else if (n_dev == 2) {
-        kick_orbit_tangent_homogeneous(n, x, p, y + stride, y + stride + n, y + 2 * stride,
+        kick_orbit_tangent_homogeneous(1, n - 1, x, p, y + stride, y + stride + n, y + 2 * stride,
                                        y + 2 * stride + n, a, b, h, cubic, 1);
     } else {
         /* more vectors (GALI_k, k > 2): kappa once into the scratch array, then one pass each */
-        kick_orbit_homogeneous(n, x, p, a, b, h, kap, cubic);
+        kick_orbit_homogeneous(1, n - 1, x, p, a, b, h, kap, cubic);
         kap[0] = k0;
         kap[n - 1] = km;
         kap[n] = kn;
@@ -345,14 +346,15 @@ FPL_INLINE void kick_tangent_general(int lo, int hi, const double *restrict u, d
 
 /* The interior of the orbit and one or two deviation vectors in one pass (kappa of both bonds
  * formed in registers; `two` a constant). */
-FPL_INLINE void kick_orbit_tangent_general(int n, const double *restrict x, double *restrict p,
+FPL_INLINE void kick_orbit_tangent_general(int lo, int hi, const double *restrict x,
+                                           double *restrict p,
                                            const double *restrict u, double *restrict q,
                                            const double *restrict w, double *restrict r,
                                            const double *restrict cn, const double *restrict s,
                                            double a, double b, double h, const int ham,
                                            const int cubic, const int two)
 {
-    for (int i = 1; i < n - 1; i++) {
+    for (int i = lo; i < hi; i++) {
         const double Rl = R_IN(x, i), Rr = R_IN(x, i + 1);
         KICK_G(p[i], i, PHI_G(L_IN(x, i + 1), Rr), PHI_G(L_IN(x, i), Rl));
         const double kl = KAP_G(Rl), kr = KAP_G(Rr);
@@ -399,10 +401,10 @@ FPL_INLINE void kick_general_body(const fpl_lattice_ctx *c, double *y, double h,
     if (n_dev == 0) {
         kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, NULL, NULL, cn, s, a, b,
-                                   h, ham, cubic, 0);
+        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, cn, s,
+                                   a, b, h, ham, cubic, 0);
     } else if (n_dev == 2) {
-        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, y + 2 * stride,
+        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, y + 2 * stride,
                                    y + 2 * stride + n, cn, s, a, b, h, ham, cubic, 1);
     } else {
         /* many vectors (GALI_k, the Lyapunov spectrum): block by block, kappa of the block's
@@ -475,10 +477,10 @@ FPL_INLINE void kick_general_ring_body(const fpl_lattice_ctx *c, double *y, doub
     if (n_dev == 0) {
         kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
     } else if (n_dev == 1) {
-        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, NULL, NULL, cn, s, a, b,
-                                   h, ham, cubic, 0);
+        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, cn, s,
+                                   a, b, h, ham, cubic, 0);
     } else if (n_dev == 2) {
-        kick_orbit_tangent_general(n, x, p, y + stride, y + stride + n, y + 2 * stride,
+        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, y + 2 * stride,
                                    y + 2 * stride + n, cn, s, a, b, h, ham, cubic, 1);
     } else {
         double *kap = c->work->kappa;
@@ -582,7 +584,7 @@ FPL_INLINE void kick_orbit_kappa(const fpl_lattice *lat, double *y, double h, do
         const double d0 = x[0], d1 = x[1] - x[0];
         const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
         const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
-        kick_orbit_homogeneous(n, x, p, a, b, h, kap, cubic);
+        kick_orbit_homogeneous(1, n - 1, x, p, a, b, h, kap, cubic);
         kap[0] = KAP_H(d0);
         kap[n - 1] = KAP_H(dm);
         kap[n] = KAP_H(dn);
@@ -878,18 +880,6 @@ FPL_INLINE void steps_homogeneous_body(const fpl_splitting *scheme, const fpl_la
     }
 }
 
-FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, double *y,
-                                      double dt, long nsteps)
-{
-    const fpl_lattice_ctx *c = ctx;
-    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
-        return;
-    if (c->lat->beta == 0.0)
-        steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
-    else
-        steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
-}
-
 /* n steps of the scheme with drift and kick inlined (fpl_split_system.steps): the operations of
  * fpl_split_step on the model's drift / kick in the same order, so bit-identical to it. */
 FPL_INLINE void steps_general_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
@@ -909,6 +899,194 @@ FPL_INLINE void steps_general_body(const fpl_splitting *scheme, const fpl_lattic
     }
 }
 
+/* ---- the stage fused: drift and kick in one pass (up to 2 deviation vectors) -------------- */
+
+/* Out of cache a stage's drift and kick were two passes over the state (the drift streams x, p
+ * and writes x of each vector, then the kick streams x and p again): the drift is done a block
+ * of particles ahead of the kick instead, particles [done, i1] drifted just before the kick of
+ * interior particles [i0, i1), whose bonds reach x_{i0-1} .. x_{i1}; the two end particles are
+ * kicked after the last block. The last drift of a step and the first of the next are applied
+ * to each element in the same pass (x += h_s p, then x += h_0 p: p does not change between
+ * them). Every element gets the operations of the stage-by-stage order, in that order:
+ * bit-identical. The block (FUSE_BLOCK particles, 9 arrays at most: 18 kB) is still in L1 when
+ * the kick reads it. Drifts in [lo, hi) of one vector: `pre` a constant (the previous step's
+ * last drift, h0, first). */
+#define FUSE_BLOCK 256
+
+FPL_INLINE void drift_range(int lo, int hi, double *restrict x, const double *restrict p,
+                            const double *restrict minv, double h0, double h, const int ham,
+                            const int pre)
+{
+    for (int i = lo; i < hi; i++) {
+        if (ham) {
+            if (pre) FPL_DRIFT(x[i], h0, minv[i], p[i]);
+            FPL_DRIFT(x[i], h, minv[i], p[i]);
+        } else {
+            if (pre) FPL_DRIFT_UNIT(x[i], h0, p[i]);
+            FPL_DRIFT_UNIT(x[i], h, p[i]);
+        }
+    }
+}
+
+/* One stage (drift hd, after hd0 if `pre`; kick hk) of model `model` with nv = n_dev = 0, 1 or 2
+ * (constants), N >= 3. */
+FPL_INLINE void stage_fused(const fpl_lattice_ctx *c, double *y, double hd0, double hd,
+                            double hk, const int model, const int cubic, const int nv,
+                            const int pre)
+{
+    const fpl_lattice *lat = c->lat;
+    const int n = lat->n;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double a = lat->alpha, b = lat->beta, h = hk;
+    const double *restrict cn = lat->cn, *restrict s = lat->s, *restrict minv = lat->minv;
+    const size_t stride = 2 * (size_t)n;
+    double *x = y, *p = y + n;
+    double *u = nv >= 1 ? y + stride : NULL, *q = nv >= 1 ? u + n : NULL;
+    double *w = nv == 2 ? y + 2 * stride : NULL, *r = nv == 2 ? w + n : NULL;
+    int done = 0;   /* particles [0, done) drifted */
+    for (int i0 = 1; i0 < n - 1; i0 += FUSE_BLOCK) {
+        const int i1 = i0 + FUSE_BLOCK < n - 1 ? i0 + FUSE_BLOCK : n - 1;
+        const int d1 = i1 == n - 1 ? n : i1 + 1;
+        drift_range(done, d1, x, p, minv, hd0, hd, ham, pre);
+        if (nv >= 1) drift_range(done, d1, u, q, minv, hd0, hd, ham, pre);
+        if (nv == 2) drift_range(done, d1, w, r, minv, hd0, hd, ham, pre);
+        done = d1;
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            if (nv == 0) kick_orbit_homogeneous(i0, i1, x, p, a, b, h, NULL, cubic);
+            else kick_orbit_tangent_homogeneous(i0, i1, x, p, u, q, w, r, a, b, h, cubic, nv == 2);
+        } else {
+            if (nv == 0)
+                kick_orbit_general(i0, i1, x, p, cn, s, a, b, h, NULL, ham, cubic);
+            else
+                kick_orbit_tangent_general(i0, i1, x, p, u, q, w, r, cn, s, a, b, h, ham, cubic,
+                                           nv == 2);
+        }
+    }
+    /* the end particles, as kick_homogeneous_body / kick_general_body */
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        const double d0 = x[0], d1 = x[1] - x[0];
+        const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
+        const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
+        const double k0 = KAP_H(d0), k1 = KAP_H(d1), km = KAP_H(dm), kn = KAP_H(dn);
+        FPL_KICK_UNIT(p[0], h, phi1, phi0);
+        FPL_KICK_UNIT(p[n - 1], h, phin, phim);
+        if (nv >= 1) kick_tangent_ends(n, u, q, k0, k1, km, kn, h);
+        if (nv == 2) kick_tangent_ends(n, w, r, k0, k1, km, kn, h);
+    } else {
+        const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
+        const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1], Rn = -cn[n - 1] * x[n - 1];
+        const double R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+        const double phi0 = PHI_G(L0, R0), phi1 = PHI_G(L_IN(x, 1), R1);
+        const double phim = PHI_G(L_IN(x, n - 1), Rm), phin = PHI_G(Ln, Rn);
+        const double k0 = KAP_G(R0), k1 = KAP_G(R1), km = KAP_G(Rm), kn = KAP_G(Rn);
+        KICK_G(p[0], 0, phi1, phi0);
+        KICK_G(p[n - 1], n - 1, phin, phim);
+        if (nv >= 1) kick_tangent_ends_general(n, u, q, cn, s, k0, k1, km, kn, h, ham);
+        if (nv == 2) kick_tangent_ends_general(n, w, r, cn, s, k0, k1, km, kn, h, ham);
+    }
+}
+
+/* n steps with fused stages (N >= 3, nv = n_dev <= 2 a constant). */
+FPL_INLINE void steps_fused_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
+                                 double dt, long nsteps, const int model, const int cubic,
+                                 const int nv)
+{
+    const int st = scheme->n_kicks, n = c->lat->n;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    const size_t stride = 2 * (size_t)n;
+    for (long k = 0; k < nsteps; k++) {
+        for (int i = 0; i < st; i++) {
+            if (i == 0 && k > 0)
+                stage_fused(c, y, da[st] * dt, da[0] * dt, kb[0] * dt, model, cubic, nv, 1);
+            else
+                stage_fused(c, y, 0.0, da[i] * dt, kb[i] * dt, model, cubic, nv, 0);
+        }
+    }
+    if (nsteps > 0)
+        for (int m = 0; m <= nv; m++)
+            drift_range(0, n, y + stride * (size_t)m, y + stride * (size_t)m + n, c->lat->minv,
+                        0.0, da[st] * dt, ham, 0);
+}
+
+/* The fused steps where they apply (returns 0 otherwise: N < 3, more than 2 vectors). */
+FPL_INLINE int steps_fused(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
+                           double dt, long nsteps, const int model, const int cubic)
+{
+    if (c->lat->n < 3 || c->n_dev > 2) return 0;
+    if (c->n_dev == 0) steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 0);
+    else if (c->n_dev == 1) steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 1);
+    else steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 2);
+    return 1;
+}
+
+/* The steppers with 0, 1 or 2 deviation vectors (stages fused) or too many or too long a chain
+ * for the many-vector steps (stage by stage), one out-of-line function per model and beta. noinline: inlined into
+ * steps_<model> beside the many-vector steppers, the kick loop lost its registers to that
+ * function's other live values (model 3 with one vector reloaded five pointers and spilled two
+ * vectors per iteration; 1.3-1.7x the hand-fused loop out of cache, benchmarks/roofline.c). The
+ * same code, so bit-identical. */
+#define FPL_HOT_APART FPL_HOT __attribute__((noinline))
+FPL_HOT_APART static void steps_few_homogeneous_quad(const fpl_splitting *scheme,
+                                                     const fpl_lattice_ctx *c, double *y,
+                                                     double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0))
+        steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
+}
+
+FPL_HOT_APART static void steps_few_homogeneous_cubic(const fpl_splitting *scheme,
+                                                      const fpl_lattice_ctx *c, double *y,
+                                                      double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1))
+        steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
+}
+
+FPL_HOT_APART static void steps_few_hamiltonian_quad(const fpl_splitting *scheme,
+                                                     const fpl_lattice_ctx *c, double *y,
+                                                     double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0))
+        steps_general_body(scheme, c, y, dt, nsteps, 1, 0);
+}
+
+FPL_HOT_APART static void steps_few_hamiltonian_cubic(const fpl_splitting *scheme,
+                                                      const fpl_lattice_ctx *c, double *y,
+                                                      double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1))
+        steps_general_body(scheme, c, y, dt, nsteps, 1, 1);
+}
+
+FPL_HOT_APART static void steps_few_nonlinear_quad(const fpl_splitting *scheme,
+                                                   const fpl_lattice_ctx *c, double *y,
+                                                   double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0))
+        steps_general_body(scheme, c, y, dt, nsteps, 0, 0);
+}
+
+FPL_HOT_APART static void steps_few_nonlinear_cubic(const fpl_splitting *scheme,
+                                                    const fpl_lattice_ctx *c, double *y,
+                                                    double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1))
+        steps_general_body(scheme, c, y, dt, nsteps, 0, 1);
+}
+
+FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, double *y,
+                                      double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
+        return;
+    if (c->lat->beta == 0.0)
+        steps_few_homogeneous_quad(scheme, c, y, dt, nsteps);
+    else
+        steps_few_homogeneous_cubic(scheme, c, y, dt, nsteps);
+}
+
 FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, double *y,
                                       double dt, long nsteps)
 {
@@ -916,9 +1094,9 @@ FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, do
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
         return;
     if (c->lat->beta == 0.0)
-        steps_general_body(scheme, c, y, dt, nsteps, 1, 0);
+        steps_few_hamiltonian_quad(scheme, c, y, dt, nsteps);
     else
-        steps_general_body(scheme, c, y, dt, nsteps, 1, 1);
+        steps_few_hamiltonian_cubic(scheme, c, y, dt, nsteps);
 }
 
 FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, double *y,
@@ -928,9 +1106,9 @@ FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, doub
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
         return;
     if (c->lat->beta == 0.0)
-        steps_general_body(scheme, c, y, dt, nsteps, 0, 0);
+        steps_few_nonlinear_quad(scheme, c, y, dt, nsteps);
     else
-        steps_general_body(scheme, c, y, dt, nsteps, 0, 1);
+        steps_few_nonlinear_cubic(scheme, c, y, dt, nsteps);
 }
 
 /* ---- anharmonic force (for the harmonic-split schemes, harmonic_split.c) ---------------- */

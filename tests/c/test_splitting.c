@@ -597,7 +597,9 @@ static void test_homogeneous_kernels(void)
  * dR + kappa dR: those agree to round-off. 0, 1, 2, 5 and 9 deviation vectors (the fused one-
  * and two-vector passes, the blocked many-vector kick and, from 8 vectors and N = 32, the step
  * taken vector by vector), beta = 0 and 0.3, N = 2 (the short-chain path), 3 (one interior
- * particle), 17 (a vector-width remainder), 64 and 600 (two blocks of the many-vector kick). */
+ * particle), 17 (a vector-width remainder), 64, 259 (the fused drift-and-kick stage of up to 2
+ * vectors in blocks of 256 particles: a last block of one particle) and 600 (three blocks of it,
+ * two of the many-vector kick). */
 static void reference_steps(const fpl_splitting *sc, const fpl_lattice *lat, double *y, int k,
                             double dt, long nsteps, double *f, double *dx, double *df)
 {
@@ -624,7 +626,7 @@ static void reference_steps(const fpl_splitting *sc, const fpl_lattice *lat, dou
 static void test_model_kernels(void)
 {
     enum { NMAX = 600, KMAX = 9, LMAX = 2 * NMAX * (KMAX + 1) };
-    static const int sizes[] = {2, 3, 17, 64, 600}, devs[] = {0, 1, 2, 5, 9};
+    static const int sizes[] = {2, 3, 17, 64, 259, 600}, devs[] = {0, 1, 2, 5, 9};
     static const double betas[] = {0.0, 0.3};
     static const char *const names[] = {"yoshida4", "srkn14a6"};
     static double v[NMAX], y0[LMAX], ya[LMAX], yb[LMAX], yc[LMAX], f[NMAX], dx[NMAX * KMAX],
