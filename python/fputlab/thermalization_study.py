@@ -20,11 +20,13 @@ study (in blocks of `block` orbits, so the ensemble can grow) and calls `run_stu
 growing t_end (t_first, 2 t_first, 4 t_first, ... up to t_max) until <eta> has crossed the
 threshold and 95 % of the bootstrap ensembles have too (T_eq and its interval are then defined),
 or t_max. T_eq and its bootstrap interval, and the fits T_eq ~ eps^-a, are computed from the
-merged labelled result (`ThermalizationStudy.dataset`, `results`). A killed run loses at most
+merged labelled result (`ThermalizationStudy.dataset`, `results`); a fit takes only the points
+whose T_eq is at least `MIN_WINDOWS` averaging windows (`resolved`). A killed run loses at most
 the piece since the engine's last horizon; a rerun continues.
 
 Built-in studies (`STUDIES`): "alpha" (the eps^-8 law of Onorato et al. 2015), "beta" (the
-double scaling of Lvov & Onorato 2018), "toda" (the integrable control), and "disorder"
+double scaling of Lvov & Onorato 2018), "beta-overlap" (its eps >= 0.1 with a window short
+enough to resolve their T_eq), "toda" (the integrable control), and "disorder"
 variants (models 2 and 3 at tau = 5 %, 10 %); "tiny" is a seconds-long grid for the tests.
 `migrate_legacy` turns a study of the driver before the engine (one npz per orbit and segment)
 into this layout with the same numbers. The parameters and the reasons for them are in
@@ -49,7 +51,8 @@ from .lattice import Lattice
 from .thermalization import equipartition_time, fit_power_law, information_entropy
 
 __all__ = ["ThermalizationStudy", "ThermalizationSpec", "ThermalizationKind",
-           "THERMALIZATION_KIND", "STUDIES", "EPS_KINDS", "FIT_RANGES", "check_spec",
+           "THERMALIZATION_KIND", "STUDIES", "EPS_KINDS", "FIT_RANGES", "MIN_WINDOWS",
+           "check_spec", "window_of", "resolved",
            "sample_times", "migrate_legacy", "projected_cost"]
 
 _FORMAT = "fputlab-thermalization-study-2"
@@ -88,11 +91,29 @@ def _lattice(settings: dict, orbit: int) -> Lattice:
 
 
 def _window(settings: dict) -> float:
-    if settings["window"] is not None:
+    if settings.get("window") is not None:
         return settings["window"]
     N = settings["N"]
     k1 = 2 * math.pi / N if settings["boundary"] == "periodic" else math.pi / (N + 1)
     return 2 * 2 * math.pi / (2 * math.sin(k1 / 2))     # two periods of the slowest mode
+
+
+def window_of(spec: "ThermalizationSpec") -> float:
+    """The averaging window of a study's samples (its `window`, or by default two periods of
+    the slowest harmonic mode)."""
+    return _window(asdict(spec))
+
+
+#: a point enters a fit only if its T_eq is at least this many averaging windows after the
+#: start: every sample averages the spectrum over the window before it, so eta(t) cannot
+#: resolve crossings a few windows from the start (docs/thermalization.md, "Resolution")
+MIN_WINDOWS = 4.0
+
+
+def resolved(t_eq: float, window: float) -> bool:
+    """Whether a T_eq is resolved by samples averaged over `window`: T_eq >= MIN_WINDOWS x
+    window (False for nan)."""
+    return bool(math.isfinite(t_eq) and t_eq >= MIN_WINDOWS * window)
 
 
 def sample_times(settings: dict, t_end: float) -> np.ndarray:
@@ -454,12 +475,19 @@ STUDIES = {
     "beta": ThermalizationSpec(label="beta", alpha=0.0, beta=1.0, eps_kind="beta",
                                eps=(1.0, 0.5, 0.3, 0.2, 0.1, 0.07, 0.05, 0.03, 0.02, 0.015),
                                dt=0.2, t_first=100.0),
+    # beta-FPUT past the overlap, resolved: T_eq ~ 100-1000 there, so a window of 16 (one
+    # period of the slowest mode's energy exchange, half its period) sampled 16 times, and a
+    # finer grid from t = 25 (the "beta" study's window 64 leaves eps >= 0.3 unresolved)
+    "beta-overlap": ThermalizationSpec(label="beta-overlap", alpha=0.0, beta=1.0,
+                                       eps_kind="beta", eps=(0.5, 0.3, 0.2, 0.1), orbits=64,
+                                       dt=0.2, t_first=25.0, t_max=1.6e5,
+                                       samples_per_doubling=8, window=16.0, sub_samples=16),
     # the integrable control at the alpha study's eps, run ~5x past the alpha T_eq there
     "toda": ThermalizationSpec(label="toda", model="toda", eps=(0.1, 0.08), t_max=1.6e6),
     "tiny": ThermalizationSpec(label="tiny", boundary="fixed", N=8, alpha=1.0,
                                eps=(0.2, 0.15), band=(1,), orbits=4, block=4, dt=0.2,
                                t_first=50.0, t_max=800.0, samples_per_doubling=4,
-                               sub_samples=4, threshold=0.3, n_boot=50),
+                               sub_samples=4, window=8.0, threshold=0.3, n_boot=50),
 }
 
 
@@ -674,10 +702,12 @@ class ThermalizationStudy:
     # -- results -----------------------------------------------------------------------------
     def results(self, fit_ranges=None) -> dict:
         """Per point: eps, E, orbits, T_eq with its bootstrap interval, eta(t), the energy
-        error and the CPU time; the power-law fit over the points that crossed (``fit``) and
-        one per eps range (``range_fits``; `fit_ranges` [(lo, hi), ...], default `FIT_RANGES`
-        of the study's label)."""
+        error, the CPU time and ``resolved`` (T_eq >= `MIN_WINDOWS` averaging windows); the
+        power-law fit over the resolved points (``fit``) and one per eps range
+        (``range_fits``; `fit_ranges` [(lo, hi), ...], default `FIT_RANGES` of the study's
+        label). Points that crossed too early to be resolved are listed, never fitted."""
         spec = self.spec
+        window = window_of(spec)
         points = []
         for p, eps in enumerate(spec.eps):
             ds = self.point_dataset(p)
@@ -689,10 +719,11 @@ class ThermalizationStudy:
                                   seed=spec.seed + p)
                 row.update(r)
                 row["cpu"] = float(np.nansum(ds["cpu"].values))
+            row["resolved"] = resolved(row["t_eq"], window)
             points.append(row)
 
         def fit_of(rows):
-            rows = [r for r in rows if np.isfinite(r["t_eq"])]
+            rows = [r for r in rows if r["resolved"]]
             if len(rows) < 2:
                 return None
             boot = np.array([r["boot"] for r in rows])
@@ -706,7 +737,7 @@ class ThermalizationStudy:
             if f is not None:
                 range_fits.append({"range": (float(lo), float(hi)), **f})
         return {"spec": asdict(spec), "points": points, "fit": fit_of(points),
-                "range_fits": range_fits}
+                "range_fits": range_fits, "window": window, "min_windows": MIN_WINDOWS}
 
 
 def _next_end(t_first: float, t: float) -> float:

@@ -36,8 +36,9 @@ def _fput_rhs(alpha, N):
 
 def test_kind_is_registered_and_one_orbit_matches_an_independent_integration():
     assert KINDS["thermalization"].endswith(":THERMALIZATION_KIND")
-    ds = run_study("thermalization", {"eps": [0.2], "orbit": [1]}, SETTINGS, 40.0,
-                   workers=1).to_xarray()
+    # the default window (two periods of the slowest mode), computed independently below
+    ds = run_study("thermalization", {"eps": [0.2], "orbit": [1]}, {**SETTINGS, "window": None},
+                   40.0, workers=1).to_xarray()
     from fputlab import Lattice
     lat = Lattice(TINY.N, TINY.alpha)
     y0 = ist.random_phases(lat, energy=TINY.energy(0.2), modes=TINY.band,
@@ -236,6 +237,39 @@ def test_driver_stops_at_the_crossing_grows_and_refuses_other_studies(tmp_path):
         ThermalizationStudy(tmp_path / "other", TINY)
     with pytest.raises(ValueError, match="holds no study"):
         ThermalizationStudy(tmp_path / "empty")
+
+
+def test_fits_use_only_the_points_the_averaging_window_resolves(tmp_path, monkeypatch):
+    """The fit rule: a point enters a fit only if T_eq >= MIN_WINDOWS averaging windows; the
+    window is two periods of the slowest mode by default (closed form), or the spec's."""
+    from fputlab import thermalization_study as ts
+    from fputlab.thermalization import fit_power_law
+    # the default: fixed chain, N = 8: k1 = pi/9
+    assert ts.window_of(replace(TINY, window=None)) == pytest.approx(
+        2 * 2 * math.pi / (2 * math.sin(math.pi / 18)), rel=1e-12)
+    w = ts.window_of(TINY)
+    assert w == TINY.window
+    assert ts.window_of(STUDIES["beta"]) == pytest.approx(2 * math.pi / math.sin(math.pi / 32))
+    assert ts.window_of(STUDIES["beta-overlap"]) == 16.0
+    assert ts.resolved(ts.MIN_WINDOWS * w, w) and not ts.resolved(ts.MIN_WINDOWS * w * 0.999, w)
+    assert not ts.resolved(math.nan, w)
+    study = ThermalizationStudy(tmp_path / "s", TINY)
+    study.run()
+    eps = [p["eps"] for p in study.results()["points"]]
+    t = [p["t_eq"] for p in study.results()["points"]]
+    assert all(map(math.isfinite, t)) and t[0] != t[1]
+    # a rule between the two T_eq: only the later crossing counts, one point fits nothing
+    monkeypatch.setattr(ts, "MIN_WINDOWS", math.sqrt(t[0] * t[1]) / w)
+    res = study.results()
+    assert [p["resolved"] for p in res["points"]] == [x > min(t) for x in t]
+    assert res["fit"] is None and res["min_windows"] == ts.MIN_WINDOWS
+    # a rule below both: both fitted, the exponent of two points in closed form
+    monkeypatch.setattr(ts, "MIN_WINDOWS", 0.5 * min(t) / w)
+    res = study.results()
+    assert all(p["resolved"] for p in res["points"])
+    a = -math.log(t[1] / t[0]) / math.log(eps[1] / eps[0])
+    assert res["fit"]["exponent"] == pytest.approx(a, rel=1e-9)
+    assert res["fit"]["exponent"] == pytest.approx(fit_power_law(eps, t)["exponent"])
 
 
 @pytest.mark.parametrize("change, word", [

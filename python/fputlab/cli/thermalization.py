@@ -92,16 +92,18 @@ def cmd_thermalization(a) -> int:
           f"{list(sp['band'])}, up to {sp['orbits']} orbits, {sp['method']} dt = {sp['dt']:g}, "
           f"eta threshold {sp['threshold']:g}")
     print(f"{'eps':>7} {'E':>9} {'orbits':>6} {'T_eq':>9} {'90% interval':>21} "
-          f"{'t reached':>10} {'eta(t)':>7} {'|dE/E|':>8} {'CPU s':>8} {'lost':>4}")
+          f"{'t reached':>10} {'eta(t)':>7} {'|dE/E|':>8} {'CPU s':>8} {'lost':>4} fitted")
     for p in res["points"]:
         lo, hi = p["interval"]
         print(f"{p['eps']:7.4g} {p['E']:9.4g} {p['orbits']:6d} {_fmt(p['t_eq']):>9} "
               f"{'[' + _fmt(lo) + ', ' + _fmt(hi) + ']':>21} {_fmt(p['t_reached']):>10} "
               f"{_fmt(p['eta_last']):>7} {_fmt(p['energy_error']):>8} {p['cpu']:8.1f} "
-              f"{p['failed']:>4}")
+              f"{p['failed']:>4} {'yes' if p['resolved'] else 'no'}")
     fit = res["fit"]
+    print(f"(fitted: T_eq >= {res['min_windows']:g} averaging windows of {res['window']:.3g}, "
+          "so eta(t) resolves the crossing)")
     if fit is None:
-        print("fit: fewer than 2 points have crossed the threshold")
+        print("fit: fewer than 2 points have crossed the threshold late enough to be resolved")
     else:
         lo, hi = fit["interval"]
         print(f"fit: T_eq ~ eps^-a, a = {fit['exponent']:.3f}, 90% interval "
