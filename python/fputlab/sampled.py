@@ -23,9 +23,9 @@ import numpy as np
 from . import _lowlevel as ll
 from ._errors import FputlabError
 from ._validate import _real
-from .engine import StudyKind
+from .engine import StudyKind, normalise_disorder
 from .integrate import Integrator, method_info
-from .lattice import MODELS, Lattice
+from .lattice import Lattice
 
 __all__ = ["RUN_KIND", "RunKind", "sampled_run"]
 
@@ -102,13 +102,6 @@ def sampled_run(settings: dict, N: int, tau: float, seed: int, prev, t_end: floa
             "cpu": time.process_time() - cpu0, "values": values, "state": state}
 
 
-def _check_grid(grid: dict) -> dict:
-    from .blowup import _check_grid_values
-    return {"N": _check_grid_values(grid["N"], "Ns", int, 2),
-            "tau": _check_grid_values(grid["tau"], "tau", float, 0.0),
-            "seed": _check_grid_values(grid["seed"], "seeds", int, 0)}
-
-
 class RunKind(StudyKind):
     """Mode energies E_k(t) and the energy E(t) of the paper's mode-1 state per (N, tau, seed),
     sampled every `sample_every` to t_end; a blow-up ends a run; a larger t_end continues
@@ -133,14 +126,7 @@ class RunKind(StudyKind):
                    "mode": {"long_name": "normal mode k", "units": "1"}}
 
     def normalise(self, grid, settings):
-        grid = _check_grid(grid)
-        unknown = set(settings) - set(_SETTINGS)
-        if unknown:
-            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of run studies "
-                             f"(known: {', '.join(sorted(_SETTINGS))})")
-        s = {**_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
-        if s["model"] not in MODELS:
-            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
+        grid, s = normalise_disorder(grid, settings, _SETTINGS, "run")
         if not isinstance(s["method"], str):
             raise ValueError(f"method must be a string (got {s['method']!r})")
         adaptive = method_info(s["method"])["adaptive"]        # names an unknown method
