@@ -20,7 +20,7 @@ from ._engine import check_ensemble
 from ._errors import Interrupted
 from ._pacing import Pacer, first_span
 from ._validate import C_U64, _int, _positive_real, _real, _renamed
-from .engine import StudyKind, normalise_disorder, run_study, wilson_interval
+from .engine import DISORDER_COORD_ATTRS, StudyKind, fraction_rows, normalise_disorder, run_study
 # CRITERIA stays importable from here (fputlab.blowup.CRITERIA)
 from .integrate import CRITERIA, Integrator, check_steps, criteria_events, method_info  # noqa: F401
 from .lattice import Lattice
@@ -193,9 +193,7 @@ class BlowupKind(StudyKind):
         "t_reached": ((), float, "1", "time reached (the blow-up time, or t_end)"),
         "tau_c": ((), float, "percent", "the realisation's own two-mode threshold tau_c"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"}}
+    coord_attrs = DISORDER_COORD_ATTRS
 
     def normalise(self, grid, settings):
         grid, s = normalise_disorder(grid, settings, _SETTINGS, "blow-up")
@@ -234,18 +232,7 @@ class BlowupKind(StudyKind):
                 for c, p in zip(coords, previous)]
 
     def summary(self, ds):
-        rows = []
-        hit = ds["blew_up"].values
-        started = np.isfinite(ds["t_reached"].values)
-        for i, N in enumerate(ds["N"].values):
-            for j, tau in enumerate(ds["tau"].values):
-                n = int(np.sum(started[i, j]))
-                k = int(np.sum(hit[i, j] & started[i, j]))
-                lo, hi = wilson_interval(k, n)
-                rows.append({"N": int(N), "tau": float(tau), "n": n, "blew_up": k,
-                             "probability": k / n if n else math.nan,
-                             "probability_low": lo, "probability_high": hi})
-        return rows
+        return fraction_rows(ds, ds["blew_up"].values, "blew_up", "probability")
 
 
 def _blowup_task(settings, N, tau, seed, prev, t_end) -> dict:

@@ -37,7 +37,7 @@ from ._validate import C_U64, _int
 
 __all__ = ["StudySpec", "StudyKind", "StudyResult", "KINDS", "get_kind", "run_study",
            "load_study", "wilson_interval", "HORIZONS", "MAX_CALL_SECONDS", "grid_values",
-           "complete_settings", "normalise_disorder"]
+           "complete_settings", "normalise_disorder", "DISORDER_COORD_ATTRS", "fraction_rows"]
 
 #: the study kinds: name -> "module:attribute" of its StudyKind. One line per kind.
 KINDS = {
@@ -193,6 +193,13 @@ def complete_settings(settings: dict, defaults: dict, what: str) -> dict:
     return {**defaults, **{k: v for k, v in settings.items() if v is not None}}
 
 
+#: the attributes of the grid coordinates N, tau, seed of a kind over disorder realisations (a
+#: kind adds its extra dims': ``coord_attrs = {**DISORDER_COORD_ATTRS, "t": {...}}``)
+DISORDER_COORD_ATTRS = {"N": {"long_name": "number of particles", "units": "1"},
+                        "tau": {"long_name": "variability of the disorder", "units": "percent"},
+                        "seed": {"long_name": "disorder seed (realisation)", "units": "1"}}
+
+
 def normalise_disorder(grid: dict, settings: dict, defaults: dict, what: str
                        ) -> tuple[dict, dict]:
     """The checks every kind over disorder realisations shares (dims N, tau, seed): the grid
@@ -275,6 +282,39 @@ def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float
     h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
     # at k = 0 and k = n one end is exactly 0 or 1 (c - h rounds to ~1e-17 there)
     return (0.0 if k == 0 else max(0.0, c - h), 1.0 if k == n else min(1.0, c + h))
+
+
+def fraction_rows(ds, hit, count: str, fraction: str) -> list[dict]:
+    """The summary rows of a kind over disorder realisations: per (N, tau), of the tasks that
+    started (finite ``t_reached``), how many are `hit`, and that fraction with its Wilson 95 %
+    interval.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The merged result (dims N, tau, seed first).
+    hit : numpy.ndarray of bool
+        Per task (N x tau x seed): the event counted (e.g. the blow-ups).
+    count, fraction : str
+        The keys of the count and of the fraction (with ``_low``, ``_high`` its interval).
+
+    Returns
+    -------
+    list of dict
+        ``{"N", "tau", "n", count, fraction, fraction_low, fraction_high}`` in the order N, tau
+        (fraction NaN where no task started).
+    """
+    rows = []
+    started = np.isfinite(ds["t_reached"].values)
+    for i, N in enumerate(ds["N"].values):
+        for j, tau in enumerate(ds["tau"].values):
+            n = int(np.sum(started[i, j]))
+            k = int(np.sum(hit[i, j] & started[i, j]))
+            lo, hi = wilson_interval(k, n)
+            rows.append({"N": int(N), "tau": float(tau), "n": n, count: k,
+                         fraction: k / n if n else math.nan,
+                         f"{fraction}_low": lo, f"{fraction}_high": hi})
+    return rows
 
 
 @dataclass(repr=False)

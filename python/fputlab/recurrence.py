@@ -25,7 +25,7 @@ import numpy as np
 
 from . import _lowlevel as ll
 from ._validate import _real
-from .engine import StudyKind, normalise_disorder
+from .engine import DISORDER_COORD_ATTRS, StudyKind, normalise_disorder
 from .sampled import n_sample_times, sampled_run
 
 __all__ = ["RECURRENCE_KIND", "RecurrenceKind", "recurrence_quality", "recurrence_time"]
@@ -72,9 +72,7 @@ class RecurrenceKind(StudyKind):
         "blew_up": ((), bool, "", "the run crossed the potential barrier"),
         "message": ((), str, "", "how the run ended"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+    coord_attrs = {**DISORDER_COORD_ATTRS,
                    "t": {"long_name": "sample time", "units": "1"},
                    "mode": {"long_name": "normal mode k", "units": "1"}}
 

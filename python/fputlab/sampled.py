@@ -23,7 +23,7 @@ import numpy as np
 from . import _lowlevel as ll
 from ._errors import FputlabError
 from ._validate import _real
-from .engine import StudyKind, normalise_disorder
+from .engine import DISORDER_COORD_ATTRS, StudyKind, fraction_rows, normalise_disorder
 from .integrate import Integrator, method_info
 from .lattice import Lattice
 
@@ -119,9 +119,7 @@ class RunKind(StudyKind):
                                   "non-finite"),
         "message": ((), str, "", "how the run ended"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+    coord_attrs = {**DISORDER_COORD_ATTRS,
                    "t": {"long_name": "sample time", "units": "1"},
                    "mode": {"long_name": "normal mode k", "units": "1"}}
 
@@ -172,19 +170,7 @@ class RunKind(StudyKind):
                 "mode": ("mode", np.arange(1, settings["n_modes"] + 1))}
 
     def summary(self, ds):
-        rows = []
-        from .engine import wilson_interval
-        blew = ds["blew_up"].values
-        started = np.isfinite(ds["t_reached"].values)
-        for i, N in enumerate(ds["N"].values):
-            for j, tau in enumerate(ds["tau"].values):
-                n = int(np.sum(started[i, j]))
-                k = int(np.sum(blew[i, j] & started[i, j]))
-                lo, hi = wilson_interval(k, n)
-                rows.append({"N": int(N), "tau": float(tau), "n": n, "blew_up": k,
-                             "fraction_blowup": k / n if n else math.nan,
-                             "fraction_blowup_low": lo, "fraction_blowup_high": hi})
-        return rows
+        return fraction_rows(ds, ds["blew_up"].values, "blew_up", "fraction_blowup")
 
 
 RUN_KIND = RunKind()

@@ -127,3 +127,33 @@ def test_the_committed_study_specs_normalise_to_themselves_with_their_key():
         assert StudySpec(doc["kind"], grid, settings, 1.0).key() == doc["key"], p
         kinds.add(doc["kind"])
     assert {"chaos", "recurrence", "thermalization"} <= kinds, kinds
+
+
+def test_fraction_rows_count_the_started_tasks_per_n_and_tau():
+    """Counted by hand: per (N, tau) the tasks with a finite t_reached, the hits among them
+    (a hit that never started does not count), and the Wilson interval of that fraction."""
+    xr = pytest.importorskip("xarray")
+    from fputlab.engine import fraction_rows, wilson_interval
+    reached = np.full((1, 2, 3), 10.0)
+    reached[0, 1, 2] = np.nan                      # (N=8, tau=5): two of three started
+    hit = np.array([[[True, False, False], [True, True, True]]])
+    ds = xr.Dataset({"t_reached": (("N", "tau", "seed"), reached)},
+                    coords={"N": [8], "tau": [0.0, 5.0], "seed": [1, 2, 3]})
+    rows = fraction_rows(ds, hit, "blew_up", "probability")
+    assert [list(r) for r in rows] == [["N", "tau", "n", "blew_up", "probability",
+                                        "probability_low", "probability_high"]] * 2
+    assert [(r["N"], r["tau"], r["n"], r["blew_up"], r["probability"]) for r in rows] == \
+        [(8, 0.0, 3, 1, 1 / 3), (8, 5.0, 2, 2, 1.0)]
+    assert (rows[1]["probability_low"], rows[1]["probability_high"]) == wilson_interval(2, 2)
+    assert rows[1]["probability_high"] == 1.0
+    reached[:] = np.nan                            # nothing started: NaN, not 0/0
+    empty = fraction_rows(ds.assign(t_reached=(("N", "tau", "seed"), reached)), hit, "k", "f")
+    assert empty[0]["n"] == 0 and np.isnan(empty[0]["f"]) and np.isnan(empty[0]["f_low"])
+
+
+@pytest.mark.parametrize("kind", sorted(DISORDER_KINDS) + ["spectrum"])
+def test_the_disorder_coordinates_are_labelled_alike_by_every_kind(kind):
+    attrs = get_kind(kind).coord_attrs
+    assert attrs["N"] == {"long_name": "number of particles", "units": "1"}
+    assert attrs["tau"] == {"long_name": "variability of the disorder", "units": "percent"}
+    assert attrs["seed"] == {"long_name": "disorder seed (realisation)", "units": "1"}

@@ -14,8 +14,8 @@ from .. import _lowlevel as ll
 from .._errors import FputlabError, last_error
 from .._validate import C_INT, C_U64, _int, _real
 from .._engine import check_ensemble
-from ..engine import (StudyKind, StudyResult, normalise_disorder, run_study,
-                      wilson_interval)
+from ..engine import (DISORDER_COORD_ATTRS, StudyKind, StudyResult, normalise_disorder,
+                      run_study, wilson_interval)
 from ..integrate import method_info
 from ..lattice import Lattice
 from .batch import BATCH_METHODS, lyapunov_batch
@@ -247,9 +247,7 @@ class ChaosKind(StudyKind):
         "gali_t": (("sample",), float, "1", "generalised alignment index"),
         "megno_t": (("sample",), float, "1", "MEGNO <Y>(t)"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+    coord_attrs = {**DISORDER_COORD_ATTRS,
                    "t": {"long_name": "sample time", "units": "1"}}
 
     def normalise(self, grid, settings):

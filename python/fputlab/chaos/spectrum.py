@@ -19,7 +19,7 @@ from .._display import ResultMixin, dataclass_repr, fmt, require_xarray, scalar_
 from .._errors import IntegrationError, Interrupted, check, last_error
 from .._pacing import Pacer, first_span
 from .._validate import C_U64, _int, _real
-from ..engine import StudyKind, StudyResult, run_study
+from ..engine import DISORDER_COORD_ATTRS, StudyKind, StudyResult, run_study
 from ..integrate import method_info
 from ..lattice import Lattice
 
@@ -580,9 +580,7 @@ class SpectrumKind(StudyKind):
         "history": (("exponent", "sample"), float, "1/time",
                     "finite-time Lyapunov exponents lambda_i(t)"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+    coord_attrs = {**DISORDER_COORD_ATTRS,
                    "exponent": {"long_name": "exponent index i", "units": "1"},
                    "t": {"long_name": "sample time", "units": "1"}}
 
