@@ -25,8 +25,8 @@ import numpy as np
 
 from . import _lowlevel as ll
 from ._validate import _real
-from .engine import DISORDER_COORD_ATTRS, StudyKind, normalise_disorder
-from .sampled import n_sample_times, sampled_run
+from .engine import StudyKind, normalise_disorder
+from .sampled import RUN_KIND, n_sample_times, sampled_run
 
 __all__ = ["RECURRENCE_KIND", "RecurrenceKind", "recurrence_quality", "recurrence_time"]
 
@@ -72,9 +72,7 @@ class RecurrenceKind(StudyKind):
         "blew_up": ((), bool, "", "the run crossed the potential barrier"),
         "message": ((), str, "", "how the run ended"),
     }
-    coord_attrs = {**DISORDER_COORD_ATTRS,
-                   "t": {"long_name": "sample time", "units": "1"},
-                   "mode": {"long_name": "normal mode k", "units": "1"}}
+    coord_attrs = RUN_KIND.coord_attrs       # the run kind's samples and modes
 
     def normalise(self, grid, settings):
         grid, s = normalise_disorder(grid, settings, _SETTINGS, "recurrence")

@@ -217,6 +217,21 @@ def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
     return out
 
 
+def orbit_method(s: dict, given: dict, taus: list) -> bool:
+    """The checks the chaos and spectrum kinds share once their settings are completed (`s`,
+    from the settings as `given`): no disorder in the homogeneous model, the method a string
+    (None: ENSEMBLE_METHOD at ENSEMBLE_DT, unless a dt is given), set in `s`. Returns whether
+    the method is adaptive (ValueError naming an unknown one)."""
+    if s["model"] == "homogeneous" and any(t != 0 for t in taus):
+        raise ValueError("tau: the homogeneous model has no disorder (use tau=0)")
+    if s["method"] is None:
+        s["method"] = ENSEMBLE_METHOD
+        s["dt"] = ENSEMBLE_DT if given.get("dt") is None else given["dt"]
+    if not isinstance(s["method"], str):
+        raise ValueError(f"method must be a string (got {s['method']!r})")
+    return method_info(s["method"])["adaptive"]      # names an unknown method
+
+
 class ChaosKind(StudyKind):
     """Chaos indicators of one orbit per (N, tau, seed): lambda(t), SALI(t), GALI(t) on a
     log-spaced grid, the class at t_end; the orbit state in the single-orbit checkpoint format,
@@ -252,14 +267,7 @@ class ChaosKind(StudyKind):
 
     def normalise(self, grid, settings):
         grid, s = normalise_disorder(grid, settings, _CHAOS_SETTINGS, "chaos")
-        if s["model"] == "homogeneous" and any(t != 0 for t in grid["tau"]):
-            raise ValueError("tau: the homogeneous model has no disorder (use tau=0)")
-        if s["method"] is None:
-            s["method"] = ENSEMBLE_METHOD
-            s["dt"] = ENSEMBLE_DT if settings.get("dt") is None else settings["dt"]
-        if not isinstance(s["method"], str):
-            raise ValueError(f"method must be a string (got {s['method']!r})")
-        adaptive = method_info(s["method"])["adaptive"]      # names an unknown method
+        adaptive = orbit_method(s, settings, grid["tau"])
         for name in ("alpha", "dt", "rtol", "atol", "renorm_interval", "t_first_sample",
                      "sali_threshold"):
             s[name] = _real(s[name], name)
