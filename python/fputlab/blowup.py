@@ -20,10 +20,10 @@ from ._engine import check_ensemble
 from ._errors import Interrupted
 from ._pacing import Pacer, first_span
 from ._validate import C_U64, _int, _positive_real, _real, _renamed
-from .engine import StudyKind, run_study, wilson_interval
+from .engine import DISORDER_COORD_ATTRS, StudyKind, fraction_rows, normalise_disorder, run_study
 # CRITERIA stays importable from here (fputlab.blowup.CRITERIA)
 from .integrate import CRITERIA, Integrator, check_steps, criteria_events, method_info  # noqa: F401
-from .lattice import MODELS, Lattice
+from .lattice import Lattice
 from .reduction import realisation_quadratics
 
 __all__ = ["blowup_time", "blowup_sweep", "Blowup", "BlowupRecord", "default_criteria",
@@ -173,23 +173,6 @@ _SETTINGS = {"model": "nonlinear", "alpha": 0.25, "method": "yoshida4", "dt": No
              "rtol": ll.RTOL, "atol": ll.ATOL, "criteria": None, "y0": None}
 
 
-def _check_grid_values(values, name: str, kind, minimum) -> list:
-    try:
-        raw = np.atleast_1d(np.asarray(values)).tolist()
-        vals = [kind(v) for v in raw]
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers (got {values!r})") from None
-    if not vals:
-        raise ValueError(f"{name} must not be empty")
-    if kind is int and any(float(v) != int(v) for v in raw):
-        raise ValueError(f"{name} must be integers (got {values!r})")
-    if any(not math.isfinite(v) or v < minimum for v in vals):
-        raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")
-    if len(set(vals)) != len(vals):
-        raise ValueError(f"{name} must not repeat values (got {vals})")
-    return vals
-
-
 def _study_lattice(settings: dict, N: int, tau: float, seed: int) -> Lattice:
     return Lattice(N, settings["alpha"], settings["model"], tau=tau, seed=seed)
 
@@ -210,23 +193,10 @@ class BlowupKind(StudyKind):
         "t_reached": ((), float, "1", "time reached (the blow-up time, or t_end)"),
         "tau_c": ((), float, "percent", "the realisation's own two-mode threshold tau_c"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"}}
+    coord_attrs = DISORDER_COORD_ATTRS
 
     def normalise(self, grid, settings):
-        grid = {"N": _check_grid_values(grid["N"], "Ns", int, 2),
-                "tau": _check_grid_values(grid["tau"], "tau", float, 0.0),
-                "seed": _check_grid_values(grid["seed"], "seeds", int, 0)}
-        for seed in grid["seed"]:
-            _int(seed, "seeds", C_U64)
-        unknown = set(settings) - set(_SETTINGS)
-        if unknown:
-            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of blow-up studies "
-                             f"(known: {', '.join(sorted(_SETTINGS))})")
-        s = {**_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
-        if s["model"] not in MODELS:
-            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
+        grid, s = normalise_disorder(grid, settings, _SETTINGS, "blow-up")
         if s["model"] == "homogeneous" and any(t != 0 for t in grid["tau"]):
             raise ValueError("tau: the homogeneous model has no disorder (use tau=[0])")
         if not isinstance(s["method"], str):
@@ -262,18 +232,7 @@ class BlowupKind(StudyKind):
                 for c, p in zip(coords, previous)]
 
     def summary(self, ds):
-        rows = []
-        hit = ds["blew_up"].values
-        started = np.isfinite(ds["t_reached"].values)
-        for i, N in enumerate(ds["N"].values):
-            for j, tau in enumerate(ds["tau"].values):
-                n = int(np.sum(started[i, j]))
-                k = int(np.sum(hit[i, j] & started[i, j]))
-                lo, hi = wilson_interval(k, n)
-                rows.append({"N": int(N), "tau": float(tau), "n": n, "blew_up": k,
-                             "probability": k / n if n else math.nan,
-                             "probability_low": lo, "probability_high": hi})
-        return rows
+        return fraction_rows(ds, ds["blew_up"].values, "blew_up", "probability")
 
 
 def _blowup_task(settings, N, tau, seed, prev, t_end) -> dict:

@@ -17,7 +17,9 @@ Without ``work_dir`` everything stays in memory, for small jobs.
 
 Kinds are registered in one table, `KINDS`: name -> "module:attribute" of a `StudyKind`,
 imported when first used (the kinds live with their physics, above this module). See
-docs/architecture.md, "Studies", for the interface.
+docs/architecture.md, "Studies", for the interface. The checks the kinds over disorder
+realisations share (the N x tau x seed grid, unknown settings, defaults, the model) are one
+helper, `normalise_disorder`, so every kind names a bad value the same way.
 """
 from __future__ import annotations
 
@@ -31,9 +33,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._engine import chunks, process_pool, run_calls, total_threads
+from ._validate import C_U64, _int
 
 __all__ = ["StudySpec", "StudyKind", "StudyResult", "KINDS", "get_kind", "run_study",
-           "load_study", "wilson_interval", "HORIZONS", "MAX_CALL_SECONDS"]
+           "load_study", "wilson_interval", "HORIZONS", "MAX_CALL_SECONDS", "grid_values",
+           "complete_settings", "normalise_disorder", "DISORDER_COORD_ATTRS", "fraction_rows"]
 
 #: the study kinds: name -> "module:attribute" of its StudyKind. One line per kind.
 KINDS = {
@@ -135,6 +139,108 @@ class StudyKind:
         return []
 
 
+# ---- the checks the kinds share ---------------------------------------------------------------
+
+def grid_values(values, name: str, kind, minimum) -> list:
+    """One dimension of a study's grid, checked: a number or a sequence of them.
+
+    Parameters
+    ----------
+    values : number or array_like
+        The values of the dimension.
+    name : str
+        The parameter the messages name (e.g. "Ns" for the dimension N).
+    kind : type
+        `int` or `float`: the type of every value (an int dimension refuses 2.5).
+    minimum : number
+        The smallest value allowed.
+
+    Returns
+    -------
+    list
+        The values as Python ints or floats, in the order given.
+
+    Raises
+    ------
+    ValueError
+        Not numbers, none, not integers (`kind` int), not finite, below `minimum`, or a value
+        given twice (each names `name`).
+    """
+    try:
+        raw = np.atleast_1d(np.asarray(values)).tolist()
+        vals = [kind(v) for v in raw]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numbers (got {values!r})") from None
+    if not vals:
+        raise ValueError(f"{name} must not be empty")
+    if kind is int and any(float(v) != int(v) for v in raw):
+        raise ValueError(f"{name} must be integers (got {values!r})")
+    if any(not math.isfinite(v) or v < minimum for v in vals):
+        raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")
+    if len(set(vals)) != len(vals):
+        raise ValueError(f"{name} must not repeat values (got {vals})")
+    return vals
+
+
+def complete_settings(settings: dict, defaults: dict, what: str) -> dict:
+    """A kind's settings completed with its defaults: a name not in `defaults` is refused
+    (ValueError naming it and the known ones, "not a setting of <what> studies"); a setting
+    given as None takes its default."""
+    unknown = set(settings) - set(defaults)
+    if unknown:
+        raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of {what} studies "
+                         f"(known: {', '.join(sorted(defaults))})")
+    return {**defaults, **{k: v for k, v in settings.items() if v is not None}}
+
+
+#: the attributes of the grid coordinates N, tau, seed of a kind over disorder realisations (a
+#: kind adds its extra dims': ``coord_attrs = {**DISORDER_COORD_ATTRS, "t": {...}}``)
+DISORDER_COORD_ATTRS = {"N": {"long_name": "number of particles", "units": "1"},
+                        "tau": {"long_name": "variability of the disorder", "units": "percent"},
+                        "seed": {"long_name": "disorder seed (realisation)", "units": "1"}}
+
+
+def normalise_disorder(grid: dict, settings: dict, defaults: dict, what: str
+                       ) -> tuple[dict, dict]:
+    """The checks every kind over disorder realisations shares (dims N, tau, seed): the grid
+    and the settings common to them, before the kind checks its own.
+
+    Parameters
+    ----------
+    grid : dict
+        ``{"N": sizes, "tau": tolerances (percent), "seed": disorder seeds}``.
+    settings : dict
+        The settings as given (None: the default).
+    defaults : dict
+        The kind's settings and their defaults; it holds "model".
+    what : str
+        The kind as its messages name it ("blow-up", "chaos", ...).
+
+    Returns
+    -------
+    grid : dict
+        N as ints >= 2, tau as floats >= 0, seed as ints in [0, 2**64), none repeated.
+    settings : dict
+        `defaults` updated with the settings given; the model checked.
+
+    Raises
+    ------
+    ValueError
+        A bad grid value (naming "Ns", "tau" or "seeds"), an unknown setting (naming it) or
+        an unknown model.
+    """
+    from ._lowlevel import MODEL_CODES     # the names of fputlab.lattice.MODELS, in its order
+    grid = {"N": grid_values(grid["N"], "Ns", int, 2),
+            "tau": grid_values(grid["tau"], "tau", float, 0.0),
+            "seed": grid_values(grid["seed"], "seeds", int, 0)}
+    for seed in grid["seed"]:       # the C seeds are unsigned 64-bit
+        _int(seed, "seeds", C_U64)
+    s = complete_settings(settings, defaults, what)
+    if s["model"] not in MODEL_CODES:
+        raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODEL_CODES)})")
+    return grid, s
+
+
 @dataclass(frozen=True)
 class StudySpec:
     """kind, grid ({dim: tuple of values}), settings (JSON-able), t_end."""
@@ -176,6 +282,39 @@ def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float
     h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
     # at k = 0 and k = n one end is exactly 0 or 1 (c - h rounds to ~1e-17 there)
     return (0.0 if k == 0 else max(0.0, c - h), 1.0 if k == n else min(1.0, c + h))
+
+
+def fraction_rows(ds, hit, count: str, fraction: str) -> list[dict]:
+    """The summary rows of a kind over disorder realisations: per (N, tau), of the tasks that
+    started (finite ``t_reached``), how many are `hit`, and that fraction with its Wilson 95 %
+    interval.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The merged result (dims N, tau, seed first).
+    hit : numpy.ndarray of bool
+        Per task (N x tau x seed): the event counted (e.g. the blow-ups).
+    count, fraction : str
+        The keys of the count and of the fraction (with ``_low``, ``_high`` its interval).
+
+    Returns
+    -------
+    list of dict
+        ``{"N", "tau", "n", count, fraction, fraction_low, fraction_high}`` in the order N, tau
+        (fraction NaN where no task started).
+    """
+    rows = []
+    started = np.isfinite(ds["t_reached"].values)
+    for i, N in enumerate(ds["N"].values):
+        for j, tau in enumerate(ds["tau"].values):
+            n = int(np.sum(started[i, j]))
+            k = int(np.sum(hit[i, j] & started[i, j]))
+            lo, hi = wilson_interval(k, n)
+            rows.append({"N": int(N), "tau": float(tau), "n": n, count: k,
+                         fraction: k / n if n else math.nan,
+                         f"{fraction}_low": lo, f"{fraction}_high": hi})
+    return rows
 
 
 @dataclass(repr=False)

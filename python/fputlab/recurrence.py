@@ -25,10 +25,8 @@ import numpy as np
 
 from . import _lowlevel as ll
 from ._validate import _real
-from .chaos.ensemble import _check_values
-from .engine import StudyKind
-from .lattice import MODELS
-from .sampled import n_sample_times, sampled_run
+from .engine import StudyKind, normalise_disorder
+from .sampled import RUN_KIND, n_sample_times, sampled_run
 
 __all__ = ["RECURRENCE_KIND", "RecurrenceKind", "recurrence_quality", "recurrence_time"]
 
@@ -74,23 +72,10 @@ class RecurrenceKind(StudyKind):
         "blew_up": ((), bool, "", "the run crossed the potential barrier"),
         "message": ((), str, "", "how the run ended"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
-                   "t": {"long_name": "sample time", "units": "1"},
-                   "mode": {"long_name": "normal mode k", "units": "1"}}
+    coord_attrs = RUN_KIND.coord_attrs       # the run kind's samples and modes
 
     def normalise(self, grid, settings):
-        grid = {"N": _check_values(grid["N"], "Ns", int, 2),
-                "tau": _check_values(grid["tau"], "tau", float, 0.0),
-                "seed": _check_values(grid["seed"], "seeds", int, 0)}
-        unknown = set(settings) - set(_SETTINGS)
-        if unknown:
-            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of recurrence "
-                             f"studies (known: {', '.join(sorted(_SETTINGS))})")
-        s = {**_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
-        if s["model"] not in MODELS:
-            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
+        grid, s = normalise_disorder(grid, settings, _SETTINGS, "recurrence")
         for name in ("alpha", "dt", "sample_every"):
             s[name] = _real(s[name], name)
             if not s[name] > 0 and name != "alpha":

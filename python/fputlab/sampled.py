@@ -23,9 +23,9 @@ import numpy as np
 from . import _lowlevel as ll
 from ._errors import FputlabError
 from ._validate import _real
-from .engine import StudyKind
+from .engine import DISORDER_COORD_ATTRS, StudyKind, fraction_rows, normalise_disorder
 from .integrate import Integrator, method_info
-from .lattice import MODELS, Lattice
+from .lattice import Lattice
 
 __all__ = ["RUN_KIND", "RunKind", "sampled_run"]
 
@@ -102,13 +102,6 @@ def sampled_run(settings: dict, N: int, tau: float, seed: int, prev, t_end: floa
             "cpu": time.process_time() - cpu0, "values": values, "state": state}
 
 
-def _check_grid(grid: dict) -> dict:
-    from .blowup import _check_grid_values
-    return {"N": _check_grid_values(grid["N"], "Ns", int, 2),
-            "tau": _check_grid_values(grid["tau"], "tau", float, 0.0),
-            "seed": _check_grid_values(grid["seed"], "seeds", int, 0)}
-
-
 class RunKind(StudyKind):
     """Mode energies E_k(t) and the energy E(t) of the paper's mode-1 state per (N, tau, seed),
     sampled every `sample_every` to t_end; a blow-up ends a run; a larger t_end continues
@@ -126,21 +119,12 @@ class RunKind(StudyKind):
                                   "non-finite"),
         "message": ((), str, "", "how the run ended"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+    coord_attrs = {**DISORDER_COORD_ATTRS,
                    "t": {"long_name": "sample time", "units": "1"},
                    "mode": {"long_name": "normal mode k", "units": "1"}}
 
     def normalise(self, grid, settings):
-        grid = _check_grid(grid)
-        unknown = set(settings) - set(_SETTINGS)
-        if unknown:
-            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of run studies "
-                             f"(known: {', '.join(sorted(_SETTINGS))})")
-        s = {**_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
-        if s["model"] not in MODELS:
-            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
+        grid, s = normalise_disorder(grid, settings, _SETTINGS, "run")
         if not isinstance(s["method"], str):
             raise ValueError(f"method must be a string (got {s['method']!r})")
         adaptive = method_info(s["method"])["adaptive"]        # names an unknown method
@@ -186,19 +170,7 @@ class RunKind(StudyKind):
                 "mode": ("mode", np.arange(1, settings["n_modes"] + 1))}
 
     def summary(self, ds):
-        rows = []
-        from .engine import wilson_interval
-        blew = ds["blew_up"].values
-        started = np.isfinite(ds["t_reached"].values)
-        for i, N in enumerate(ds["N"].values):
-            for j, tau in enumerate(ds["tau"].values):
-                n = int(np.sum(started[i, j]))
-                k = int(np.sum(blew[i, j] & started[i, j]))
-                lo, hi = wilson_interval(k, n)
-                rows.append({"N": int(N), "tau": float(tau), "n": n, "blew_up": k,
-                             "fraction_blowup": k / n if n else math.nan,
-                             "fraction_blowup_low": lo, "fraction_blowup_high": hi})
-        return rows
+        return fraction_rows(ds, ds["blew_up"].values, "blew_up", "fraction_blowup")
 
 
 RUN_KIND = RunKind()

@@ -44,7 +44,7 @@ import numpy as np
 
 from ._errors import IntegrationError
 from ._validate import _int, _real
-from .engine import StudyKind, load_study, run_study
+from .engine import StudyKind, grid_values, load_study, run_study
 from .initial_states import random_phases, wave_energies
 from .integrate import Integrator, method_info
 from .lattice import Lattice
@@ -169,11 +169,10 @@ class ThermalizationKind(StudyKind):
                    "mode": {"long_name": "wave number index k", "units": "1"}}
 
     def normalise(self, grid, settings):
-        from .chaos.ensemble import _check_values
-        eps = _check_values(grid["eps"], "eps", float, 0.0)
+        eps = grid_values(grid["eps"], "eps", float, 0.0)
         if any(e <= 0 for e in eps):
             raise ValueError(f"eps must be > 0 (got {eps})")
-        orbits = _check_values(grid["orbit"], "orbit", int, 0)
+        orbits = grid_values(grid["orbit"], "orbit", int, 0)
         if max(orbits) >= _POINT_STRIDE:
             raise ValueError(f"orbit must be < {_POINT_STRIDE} (got {max(orbits)})")
         unknown = set(settings) - set(_SETTINGS)

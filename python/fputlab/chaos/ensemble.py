@@ -14,9 +14,10 @@ from .. import _lowlevel as ll
 from .._errors import FputlabError, last_error
 from .._validate import C_INT, C_U64, _int, _real
 from .._engine import check_ensemble
-from ..engine import StudyKind, StudyResult, run_study, wilson_interval
+from ..engine import (DISORDER_COORD_ATTRS, StudyKind, StudyResult, normalise_disorder,
+                      run_study, wilson_interval)
 from ..integrate import method_info
-from ..lattice import MODELS, Lattice
+from ..lattice import Lattice
 from .batch import BATCH_METHODS, lyapunov_batch
 from .result import CLASSES, ChaosResult
 from .single import ENSEMBLE_DT, ENSEMBLE_METHOD, lyapunov
@@ -216,20 +217,19 @@ def _run_lanes(settings, N, tau, seeds, prevs, t_end) -> list[dict]:
     return out
 
 
-def _check_values(values, name: str, kind, minimum) -> list:
-    try:
-        vals = [kind(v) for v in np.atleast_1d(np.asarray(values)).tolist()]
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be numbers (got {values!r})") from None
-    if not vals:
-        raise ValueError(f"{name} must not be empty")
-    if kind is int and any(float(v) != int(v) for v in np.atleast_1d(values).tolist()):
-        raise ValueError(f"{name} must be integers (got {values!r})")
-    if any(not math.isfinite(v) or v < minimum for v in vals):
-        raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")
-    if len(set(vals)) != len(vals):
-        raise ValueError(f"{name} must not repeat values (got {vals})")
-    return vals
+def orbit_method(s: dict, given: dict, taus: list) -> bool:
+    """The checks the chaos and spectrum kinds share once their settings are completed (`s`,
+    from the settings as `given`): no disorder in the homogeneous model, the method a string
+    (None: ENSEMBLE_METHOD at ENSEMBLE_DT, unless a dt is given), set in `s`. Returns whether
+    the method is adaptive (ValueError naming an unknown one)."""
+    if s["model"] == "homogeneous" and any(t != 0 for t in taus):
+        raise ValueError("tau: the homogeneous model has no disorder (use tau=0)")
+    if s["method"] is None:
+        s["method"] = ENSEMBLE_METHOD
+        s["dt"] = ENSEMBLE_DT if given.get("dt") is None else given["dt"]
+    if not isinstance(s["method"], str):
+        raise ValueError(f"method must be a string (got {s['method']!r})")
+    return method_info(s["method"])["adaptive"]      # names an unknown method
 
 
 class ChaosKind(StudyKind):
@@ -262,31 +262,12 @@ class ChaosKind(StudyKind):
         "gali_t": (("sample",), float, "1", "generalised alignment index"),
         "megno_t": (("sample",), float, "1", "MEGNO <Y>(t)"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+    coord_attrs = {**DISORDER_COORD_ATTRS,
                    "t": {"long_name": "sample time", "units": "1"}}
 
     def normalise(self, grid, settings):
-        grid = {"N": _check_values(grid["N"], "Ns", int, 2),
-                "tau": _check_values(grid["tau"], "tau", float, 0.0),
-                "seed": _check_values(grid["seed"], "seeds", int, 0)}
-        s = dict(settings)
-        unknown = set(s) - set(_CHAOS_SETTINGS)
-        if unknown:
-            raise ValueError(f"{', '.join(sorted(unknown))}: not a setting of chaos studies "
-                             f"(known: {', '.join(sorted(_CHAOS_SETTINGS))})")
-        s = {**_CHAOS_SETTINGS, **{k: v for k, v in s.items() if v is not None}}
-        if s["model"] not in MODELS:
-            raise ValueError(f"model {s['model']!r} is unknown (known: {', '.join(MODELS)})")
-        if s["model"] == "homogeneous" and any(t != 0 for t in grid["tau"]):
-            raise ValueError("tau: the homogeneous model has no disorder (use tau=0)")
-        if s["method"] is None:
-            s["method"] = ENSEMBLE_METHOD
-            s["dt"] = ENSEMBLE_DT if settings.get("dt") is None else settings["dt"]
-        if not isinstance(s["method"], str):
-            raise ValueError(f"method must be a string (got {s['method']!r})")
-        adaptive = method_info(s["method"])["adaptive"]      # names an unknown method
+        grid, s = normalise_disorder(grid, settings, _CHAOS_SETTINGS, "chaos")
+        adaptive = orbit_method(s, settings, grid["tau"])
         for name in ("alpha", "dt", "rtol", "atol", "renorm_interval", "t_first_sample",
                      "sali_threshold"):
             s[name] = _real(s[name], name)

@@ -19,9 +19,10 @@ from .._display import ResultMixin, dataclass_repr, fmt, require_xarray, scalar_
 from .._errors import IntegrationError, Interrupted, check, last_error
 from .._pacing import Pacer, first_span
 from .._validate import C_U64, _int, _real
-from ..engine import StudyKind, StudyResult, run_study
+from ..engine import DISORDER_COORD_ATTRS, StudyKind, StudyResult, run_study
 from ..integrate import method_info
 from ..lattice import Lattice
+from .ensemble import orbit_method
 
 __all__ = ["lyapunov_spectrum", "lyapunov_spectra", "SpectrumResult", "covariant_lyapunov_vectors",
            "CLVResult", "covariant_vectors_from_qr", "inverse_participation_ratio",
@@ -580,9 +581,7 @@ class SpectrumKind(StudyKind):
         "history": (("exponent", "sample"), float, "1/time",
                     "finite-time Lyapunov exponents lambda_i(t)"),
     }
-    coord_attrs = {"N": {"long_name": "number of particles", "units": "1"},
-                   "tau": {"long_name": "variability of the disorder", "units": "percent"},
-                   "seed": {"long_name": "disorder seed (realisation)", "units": "1"},
+    coord_attrs = {**DISORDER_COORD_ATTRS,
                    "exponent": {"long_name": "exponent index i", "units": "1"},
                    "t": {"long_name": "sample time", "units": "1"}}
 
@@ -603,15 +602,7 @@ class SpectrumKind(StudyKind):
         s = {**_SPECTRUM_SETTINGS, **{k: v for k, v in settings.items() if v is not None}}
         if s["model"] not in ("homogeneous", "hamiltonian", "nonlinear"):
             raise ValueError(f"model {s['model']!r} is unknown")
-        if s["model"] == "homogeneous" and any(t != 0 for t in taus):
-            raise ValueError("tau: the homogeneous model has no disorder (use tau=0)")
-        if s["method"] is None:
-            from .single import ENSEMBLE_DT, ENSEMBLE_METHOD
-            s["method"] = ENSEMBLE_METHOD
-            s["dt"] = ENSEMBLE_DT if settings.get("dt") is None else settings["dt"]
-        if not isinstance(s["method"], str):
-            raise ValueError(f"method must be a string (got {s['method']!r})")
-        adaptive = method_info(s["method"])["adaptive"]
+        adaptive = orbit_method(s, settings, taus)
         for name in ("alpha", "beta", "dt", "rtol", "atol", "renormalize_every", "amplitude"):
             s[name] = _real(s[name], name)
         for name in ("dt", "rtol", "atol", "renormalize_every"):
