@@ -167,13 +167,15 @@ def grid_values(values, name: str, kind, minimum) -> list:
         given twice (each names `name`).
     """
     try:
-        raw = np.atleast_1d(np.asarray(values)).tolist()
+        # a list as given: numpy would make [2**64 - 1, 4.0] two floats
+        raw = list(values) if isinstance(values, (list, tuple)) else np.atleast_1d(np.asarray(values)).tolist()
         vals = [kind(v) for v in raw]
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be numbers (got {values!r})") from None
     if not vals:
         raise ValueError(f"{name} must not be empty")
-    if kind is int and any(float(v) != int(v) for v in raw):
+    # an int as it is (float(2**64 - 1) would round it to 2**64); anything else must be integral
+    if kind is int and any(not isinstance(v, int) and not float(v).is_integer() for v in raw):
         raise ValueError(f"{name} must be integers (got {values!r})")
     if any(not math.isfinite(v) or v < minimum for v in vals):
         raise ValueError(f"{name} must be finite and >= {minimum} (got {vals})")

@@ -99,6 +99,9 @@ def test_complete_settings_takes_the_defaults_and_refuses_what_it_does_not_know(
     ([0.5, 2], float, 0.0, [0.5, 2.0]),
     (np.float32(0.25), float, 0.0, [0.25]),
     ([0, 3.0], int, 0, [0, 3]),
+    # the largest 64-bit seed stays itself beside a float (no detour through float64)
+    ([2**64 - 1, 4.0], int, 0, [2**64 - 1, 4]),
+    (np.array([2**64 - 1], dtype=np.uint64), int, 0, [2**64 - 1]),
 ])
 def test_grid_values_of_one_dimension(values, kind, minimum, expected):
     out = grid_values(values, "eps", kind, minimum)
