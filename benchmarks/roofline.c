@@ -32,7 +32,11 @@
  * interleaved in each repeat (the machine is shared). The plain step is checked against
  * fputlab's to round-off first. Also printed: fputlab against model 1 at the same N and k, and
  * the cost of one extra deviation vector in orbit steps, (t(k) - t(0)) / (k t(0)).
- * Usage: roofline [repeats] [max_N] [min_N]. */
+ * With "ring" the periodic chains instead (bond 0 joining particles N-1 and 0; the plain step's
+ * two end particles take that bond, its interior is the fixed chain's), each timed against its
+ * plain-C ring step and against fputlab's fixed chain of the same model, N and k, the three
+ * interleaved ("ring/fix"; the bytes are the fixed chain's).
+ * Usage: roofline [repeats] [max_N] [min_N] [fixed|ring]. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -86,12 +90,29 @@ static inline void stretch(int model, const double *u, const double *cn, int n, 
     }
 }
 
-/* One particle next to a wall (i = 0 or n-1), every vector: written plainly. */
-static void plain_kick_end(int model, int n, int k, double *y, const coef *c, double h, int i)
+/* The ring's bond j (particles j-1 and j mod N: bonds 0 and N both the wrap-around bond). */
+static inline void stretch_ring(int model, const double *u, const double *cn, int n, int j,
+                                double *L, double *R)
 {
+    const int r = j % n, l = (j + n - 1) % n;
+    if (model == 1) {
+        *L = *R = u[r] - u[l];
+    } else {
+        *R = cn[r] * u[r] - cn[l] * u[l];
+        *L = model == 2 ? *R : u[r] - u[l];
+    }
+}
+
+/* One particle next to a wall (i = 0 or n-1; on the ring: next to the wrap-around bond), every
+ * vector: written plainly. */
+static void plain_kick_end(int model, int ring, int n, int k, double *y, const coef *c, double h,
+                           int i)
+{
+    void (*const bond)(int, const double *, const double *, int, int, double *, double *) =
+        ring ? stretch_ring : stretch;
     double Ll, Rl, Lr, Rr;
-    stretch(model, y, c->cn, n, i, &Ll, &Rl);
-    stretch(model, y, c->cn, n, i + 1, &Lr, &Rr);
+    bond(model, y, c->cn, n, i, &Ll, &Rl);
+    bond(model, y, c->cn, n, i + 1, &Lr, &Rr);
     const double sc = model == 2 ? h * c->s[i] : h;
     y[n + i] += sc * ((Lr + ALPHA * Rr * Rr) - (Ll + ALPHA * Rl * Rl));
     /* model 1: kappa includes the linear 1 and L = R */
@@ -99,8 +120,8 @@ static void plain_kick_end(int model, int n, int k, double *y, const coef *c, do
     for (int v = 1; v <= k; v++) {
         double *w = y + 2 * (size_t)n * v;
         double dLl, dRl, dLr, dRr;
-        stretch(model, w, c->cn, n, i, &dLl, &dRl);
-        stretch(model, w, c->cn, n, i + 1, &dLr, &dRr);
+        bond(model, w, c->cn, n, i, &dLl, &dRl);
+        bond(model, w, c->cn, n, i + 1, &dLr, &dRr);
         if (model == 1)
             w[n + i] += sc * (kr * dRr - kl * dRl);
         else
@@ -171,12 +192,13 @@ static inline void plain_tangent_interior(int model, int n, const double *restri
     }
 }
 
-static inline void plain_kick(int model, int n, int k, double *y, const coef *c, double *kap,
-                              double h)
+/* The kick; `ring`: the periodic chain (the interior particles are the fixed chain's). */
+static inline void plain_kick(int model, int ring, int n, int k, double *y, const coef *c,
+                              double *kap, double h)
 {
     /* the ends first: they read the interior's old x only (the kick changes p alone) */
-    plain_kick_end(model, n, k, y, c, h, 0);
-    plain_kick_end(model, n, k, y, c, h, n - 1);
+    plain_kick_end(model, ring, n, k, y, c, h, 0);
+    plain_kick_end(model, ring, n, k, y, c, h, n - 1);
     const size_t st = 2 * (size_t)n;
     if (k == 0) {
         plain_kick_interior(model, n, 0, y, y + n, NULL, NULL, NULL, NULL, c->cn, c->s, NULL, h);
@@ -202,27 +224,33 @@ static inline void plain_kick(int model, int n, int k, double *y, const coef *c,
         plain_tangent_interior(model, n, y + st * v, y + st * v + n, c->cn, c->s, kap, h);
 }
 
-static inline void plain_yoshida4_model(int model, int n, int k, double *y, const coef *c,
-                                        double *kap, double dt, long steps)
+static inline void plain_yoshida4_model(int model, int ring, int n, int k, double *y,
+                                        const coef *c, double *kap, double dt, long steps)
 {
     for (long s = 0; s < steps; s++) {
         plain_drift(model, n, k, y, c, 0.5 * W1 * dt);
-        plain_kick(model, n, k, y, c, kap, W1 * dt);
+        plain_kick(model, ring, n, k, y, c, kap, W1 * dt);
         plain_drift(model, n, k, y, c, 0.5 * (W0 + W1) * dt);
-        plain_kick(model, n, k, y, c, kap, W0 * dt);
+        plain_kick(model, ring, n, k, y, c, kap, W0 * dt);
         plain_drift(model, n, k, y, c, 0.5 * (W0 + W1) * dt);
-        plain_kick(model, n, k, y, c, kap, W1 * dt);
+        plain_kick(model, ring, n, k, y, c, kap, W1 * dt);
         plain_drift(model, n, k, y, c, 0.5 * W1 * dt);
     }
 }
 
-/* One build per model (the model a constant in each). */
-static void plain_yoshida4(int model, int n, int k, double *y, const coef *c, double *kap,
-                           double dt, long steps)
+/* One build per model and boundary (constants in each). */
+static void plain_yoshida4(int model, int ring, int n, int k, double *y, const coef *c,
+                           double *kap, double dt, long steps)
 {
-    if (model == 1) plain_yoshida4_model(1, n, k, y, c, kap, dt, steps);
-    else if (model == 2) plain_yoshida4_model(2, n, k, y, c, kap, dt, steps);
-    else plain_yoshida4_model(3, n, k, y, c, kap, dt, steps);
+    if (ring) {
+        if (model == 1) plain_yoshida4_model(1, 1, n, k, y, c, kap, dt, steps);
+        else if (model == 2) plain_yoshida4_model(2, 1, n, k, y, c, kap, dt, steps);
+        else plain_yoshida4_model(3, 1, n, k, y, c, kap, dt, steps);
+        return;
+    }
+    if (model == 1) plain_yoshida4_model(1, 0, n, k, y, c, kap, dt, steps);
+    else if (model == 2) plain_yoshida4_model(2, 0, n, k, y, c, kap, dt, steps);
+    else plain_yoshida4_model(3, 0, n, k, y, c, kap, dt, steps);
 }
 
 static void initial(int n, int k, double *y)
@@ -274,16 +302,23 @@ int main(int argc, char **argv)
     const int repeats = argc > 1 ? atoi(argv[1]) : 5;
     const long max_n = argc > 2 ? atol(argv[2]) : 1L << 22;
     const long min_n = argc > 3 ? atol(argv[3]) : 0;
+    const int ring = argc > 4 && strcmp(argv[4], "ring") == 0;
     static const int sizes[] = {16, 64, 512, 4096, 32768, 262144, 1 << 22};
     const fpl_splitting *yo = NULL;
     if (fpl_splitting_lookup("yoshida4", &yo)) return 1;
     const double bw = triad_bandwidth(repeats + 2);
     printf("triad bandwidth %.2f GB/s (3 x 64 MB, best of %d)\n", bw / 1e9, repeats + 2);
-    printf("%5s %8s %5s %9s %12s %12s %12s %9s %9s %9s %9s %6s %8s\n", "model", "N", "k", "bytes",
-           "fputlab", "plain C", "bound", "fpl/plain", "fpl/bound", "fpl/mod1", "per-vec",
-           "fpl B", "fpl/fbnd");
-    printf("%5s %8s %5s %9s %12s %12s %12s\n", "", "", "", "[B/p-st]", "[ns/p-st]", "[ns/p-st]",
-           "[ns/p-st]");
+    if (ring) {
+        printf("rings: %5s %8s %5s %12s %12s %12s %9s %9s %9s\n%12s %8s %5s %12s %12s %12s\n",
+               "model", "N", "k", "fputlab", "plain C", "fpl fixed", "fpl/plain", "ring/fix",
+               "per-vec", "", "", "", "[ns/p-st]", "[ns/p-st]", "[ns/p-st]");
+    } else {
+        printf("%5s %8s %5s %9s %12s %12s %12s %9s %9s %9s %9s %6s %8s\n", "model", "N", "k",
+               "bytes", "fputlab", "plain C", "bound", "fpl/plain", "fpl/bound", "fpl/mod1",
+               "per-vec", "fpl B", "fpl/fbnd");
+        printf("%5s %8s %5s %9s %12s %12s %12s\n", "", "", "", "[B/p-st]", "[ns/p-st]",
+               "[ns/p-st]", "[ns/p-st]");
+    }
     double t_model1[8][8] = {{0}}, t_orbit[8] = {0};
     for (int model = 1; model <= 3; model++) {
         for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++) {
@@ -304,8 +339,10 @@ int main(int argc, char **argv)
                 c.s[j] = model == 2 ? v[j] : 1.0;
                 c.minv[j] = model == 2 ? 1.0 / v[j] : 1.0;
             }
-            fpl_lattice *lat = NULL;
-            if (fpl_lattice_create(n, ALPHA, 0.0, model, model == 1 ? NULL : v, &lat)) {
+            fpl_lattice *lat = NULL, *fixed = NULL;   /* fixed: the ring's fixed chain */
+            if (fpl_lattice_create_ex(n, ALPHA, 0.0, model, model == 1 ? NULL : v,
+                                      ring ? FPL_BOUNDARY_PERIODIC : FPL_BOUNDARY_FIXED, &lat) ||
+                (ring && fpl_lattice_create(n, ALPHA, 0.0, model, model == 1 ? NULL : v, &fixed))) {
                 fprintf(stderr, "lattice N = %d: %s\n", n, fpl_last_error());
                 return 1;
             }
@@ -325,7 +362,7 @@ int main(int argc, char **argv)
                 initial(n, k, a);
                 initial(n, k, b);
                 if (fpl_splitting_advance(yo, lat, a, k, 0.01, 3)) return 1;
-                plain_yoshida4(model, n, k, b, &c, kap, 0.01, 3);
+                plain_yoshida4(model, ring, n, k, b, &c, kap, 0.01, 3);
                 double diff = 0.0;
                 for (long i = 0; i < len; i++) diff = fmax(diff, fabs(a[i] - b[i]) / (1 + fabs(a[i])));
                 if (diff > 1e-12) {
@@ -333,7 +370,7 @@ int main(int argc, char **argv)
                             "%.2e\n", model, n, k, diff);
                     return 1;
                 }
-                double best_f = INFINITY, best_p = INFINITY;
+                double best_f = INFINITY, best_p = INFINITY, best_x = INFINITY;
                 for (int r = 0; r < reps; r++) {
                     initial(n, k, a);   /* the same orbit every repeat (model 3 can run away) */
                     initial(n, k, b);
@@ -345,8 +382,13 @@ int main(int argc, char **argv)
                         return 1;
                     }
                     t0 = cpu_now();
-                    plain_yoshida4(model, n, k, b, &c, kap, 0.01, steps);
+                    plain_yoshida4(model, ring, n, k, b, &c, kap, 0.01, steps);
                     best_p = fmin(best_p, (cpu_now() - t0) / ((double)steps * n));
+                    if (!ring) continue;
+                    initial(n, k, a);
+                    t0 = cpu_now();
+                    if (fpl_splitting_advance(yo, fixed, a, k, 0.01, steps)) return 1;
+                    best_x = fmin(best_x, (cpu_now() - t0) / ((double)steps * n));
                 }
                 const double bound = step_bytes(model, k) / bw;
                 if (model == 1) t_model1[in][id] = best_f;
@@ -354,6 +396,15 @@ int main(int argc, char **argv)
                 char per_vec[16] = "";
                 if (k > 0) snprintf(per_vec, sizeof per_vec, "%.2f",
                                     (best_f - t_orbit[in]) / (k * t_orbit[in]));
+                if (ring) {
+                    printf("rings: %5d %8d %5d %12.3f %12.3f %12.3f %9.2f %9.2f %9s\n", model, n,
+                           k, best_f * 1e9, best_p * 1e9, best_x * 1e9, best_f / best_p,
+                           best_f / best_x, per_vec);
+                    fflush(stdout);
+                    free(a);
+                    free(b);
+                    continue;
+                }
                 printf("%5d %8d %5d %9.0f %12.3f %12.3f %12.3f %9.2f %9.2f %9.2f %9s %6.0f %8.2f\n",
                        model, n, k, step_bytes(model, k), best_f * 1e9, best_p * 1e9, bound * 1e9,
                        best_f / best_p, best_f / bound, best_f / t_model1[in][id], per_vec,
@@ -363,6 +414,7 @@ int main(int argc, char **argv)
                 free(b);
             }
             fpl_lattice_free(&lat);
+            fpl_lattice_free(&fixed);
             free(v);
             free(c.cn);
             free(c.s);

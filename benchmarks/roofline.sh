@@ -5,6 +5,7 @@
 # compiled with fputlab's own flags for its AVX2 clone (-O3 -march=x86-64-v3 -fno-math-errno
 # -fno-trapping-math); ROOFLINE_ARCHES="x86-64-v3 native" also runs it with -march=native. About
 # three minutes per arch on a quiet machine. Usage: benchmarks/roofline.sh [repeats] [max_N] [min_N]
+# [fixed|ring] (ring: the periodic chains against their plain-C ring step and the fixed chains)
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 B=${FPUTLAB_BUILD:-$ROOT/build}

@@ -455,6 +455,58 @@ FPL_HOT static void kick_nonlinear(void *ctx, double *y, double h)
 #define R_WRAP(u) (cn[0] * (u)[0] - cn[n - 1] * (u)[n - 1])
 #define L_WRAP(u) (ham ? R_WRAP(u) : (u)[0] - (u)[n - 1])
 
+/* The ring's end particles 0 and N-1 of one deviation vector from the curvatures kw (the
+ * wrap-around bond), k1 and km (bonds 1 and N-1), for every model (`model` a constant): the
+ * expressions of kick_ring_body (models_periodic.c) and kick_general_ring_body below. */
+FPL_INLINE void kick_tangent_ends_ring(int n, const double *dx, double *dp, const double *cn,
+                                       const double *s, double kw, double k1, double km, double h,
+                                       const int model)
+{
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        const double tw = kw * (dx[0] - dx[n - 1]);
+        FPL_KICK_UNIT(dp[0], h, k1 * (dx[1] - dx[0]), tw);
+        FPL_KICK_UNIT(dp[n - 1], h, tw, km * (dx[n - 1] - dx[n - 2]));
+        return;
+    }
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double tw = FPL_DPHI(L_WRAP(dx), kw, R_WRAP(dx));
+    const double t1 = DPHI_IN(dx, 1, k1), tm = DPHI_IN(dx, n - 1, km);
+    KICK_G(dp[0], 0, t1, tw);
+    KICK_G(dp[n - 1], n - 1, tw, tm);
+}
+
+/* The ring's end particles of the orbit and of nv = 0, 1 or 2 deviation vectors (u, q), (w, r)
+ * (the fused stage's ends); with kap, also kappa of bonds 0 = N and N-1 into it (the
+ * many-vector step's). The expressions of kick_ring_body / kick_general_ring_body. */
+FPL_INLINE void kick_ring_ends(int n, const double *x, double *p, const double *u, double *q,
+                               const double *w, double *r, const double *cn, const double *s,
+                               double a, double b, double h, double *kap, const int model,
+                               const int cubic, const int nv)
+{
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    double kw, k1, km;
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        const double dw = x[0] - x[n - 1], d1 = x[1] - x[0], dm = x[n - 1] - x[n - 2];
+        const double phiw = PHI_C(dw), phi1 = PHI_C(d1), phim = PHI_C(dm);
+        kw = KAP_C(dw), k1 = KAP_C(d1), km = KAP_C(dm);
+        FPL_KICK_UNIT(p[0], h, phi1, phiw);
+        FPL_KICK_UNIT(p[n - 1], h, phiw, phim);
+    } else {
+        const double Rw = R_WRAP(x), R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+        const double phiw = PHI_G(L_WRAP(x), Rw), phi1 = PHI_G(L_IN(x, 1), R1);
+        const double phim = PHI_G(L_IN(x, n - 1), Rm);
+        kw = KAP_G(Rw), k1 = KAP_G(R1), km = KAP_G(Rm);
+        KICK_G(p[0], 0, phi1, phiw);
+        KICK_G(p[n - 1], n - 1, phiw, phim);
+    }
+    if (kap) {
+        kap[0] = kap[n] = kw;
+        kap[n - 1] = km;
+    }
+    if (nv >= 1) kick_tangent_ends_ring(n, u, q, cn, s, kw, k1, km, h, model);
+    if (nv == 2) kick_tangent_ends_ring(n, w, r, cn, s, kw, k1, km, h, model);
+}
+
 FPL_INLINE void kick_general_ring_body(const fpl_lattice_ctx *c, double *y, double h,
                                        const int ham, const int cubic)
 {
@@ -524,7 +576,9 @@ FPL_HOT void fpl_kick_ring_nonlinear(void *ctx, double *y, double h)
 }
 
 /* n steps with drift and kick inlined: fpl_split_step on fpl_drift_masses (model 2) or
- * fpl_drift_unit_mass (model 3) and the ring kick above, the same operations in the same order. */
+ * fpl_drift_unit_mass (model 3) and the ring kick above, the same operations in the same order
+ * (the rings' steppers, after the fixed chains' below, take it where neither the fused stages
+ * nor the many-vector steps apply). */
 FPL_INLINE void steps_general_ring_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
                                         double *y, double dt, long nsteps, const int ham,
                                         const int cubic)
@@ -542,26 +596,6 @@ FPL_INLINE void steps_general_ring_body(const fpl_splitting *scheme, const fpl_l
     }
 }
 
-FPL_HOT void fpl_steps_ring_hamiltonian(const fpl_splitting *scheme, void *ctx, double *y,
-                                        double dt, long nsteps)
-{
-    const fpl_lattice_ctx *c = ctx;
-    if (c->lat->beta == 0.0)
-        steps_general_ring_body(scheme, c, y, dt, nsteps, 1, 0);
-    else
-        steps_general_ring_body(scheme, c, y, dt, nsteps, 1, 1);
-}
-
-FPL_HOT void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, double *y,
-                                      double dt, long nsteps)
-{
-    const fpl_lattice_ctx *c = ctx;
-    if (c->lat->beta == 0.0)
-        steps_general_ring_body(scheme, c, y, dt, nsteps, 0, 0);
-    else
-        steps_general_ring_body(scheme, c, y, dt, nsteps, 0, 1);
-}
-
 /* ---- many deviation vectors: the step vector by vector ------------------------------------ */
 
 /* With many deviation vectors (GALI_k, the Lyapunov spectrum with k up to 2N) the kick-by-kick
@@ -572,14 +606,25 @@ FPL_HOT void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, do
  * time, through all stages with those rows, the block staying in L1 for the whole step. Every element gets exactly the
  * operations of the stage-by-stage order (the vectors do not interact): bit-identical. */
 
-/* The orbit's kick (all particles) with kappa_b of every bond 0..N into kap. */
+/* The orbit's kick (all particles) with kappa_b of every bond 0..N into kap (`ring`: the
+ * periodic chain, a constant). */
 FPL_INLINE void kick_orbit_kappa(const fpl_lattice *lat, double *y, double h, double *kap,
-                                 const int model, const int cubic)
+                                 const int model, const int cubic, const int ring)
 {
     const int n = lat->n;
     const double a = lat->alpha, b = lat->beta;
     const double *x = y;
     double *p = y + n;
+    if (ring) {   /* bond 0 = bond N: the wrap-around bond (its kappa in both rows) */
+        if (model == FPL_MODEL_HOMOGENEOUS)
+            kick_orbit_homogeneous(1, n - 1, x, p, a, b, h, kap, cubic);
+        else
+            kick_orbit_general(1, n - 1, x, p, lat->cn, lat->s, a, b, h, kap,
+                               model == FPL_MODEL_HAMILTONIAN, cubic);
+        kick_ring_ends(n, x, p, NULL, NULL, NULL, NULL, lat->cn, lat->s, a, b, h, kap, model,
+                       cubic, 0);
+        return;
+    }
     if (model == FPL_MODEL_HOMOGENEOUS) {
         const double d0 = x[0], d1 = x[1] - x[0];
         const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
@@ -608,11 +653,20 @@ FPL_INLINE void kick_orbit_kappa(const fpl_lattice *lat, double *y, double h, do
 
 /* One deviation vector's tangent kick (all particles) from the curvatures kap of bonds 0..N. */
 FPL_INLINE void kick_tangent_vector(const fpl_lattice *lat, double *v, double h,
-                                    const double *kap, const int model)
+                                    const double *kap, const int model, const int ring)
 {
     const int n = lat->n;
     const double *dx = v;
     double *dp = v + n;
+    if (ring) {
+        if (model == FPL_MODEL_HOMOGENEOUS)
+            kick_tangent_homogeneous(n, dx, dp, kap, h);
+        else
+            kick_tangent_general(1, n - 1, dx, dp, lat->cn, lat->s, kap, h,
+                                 model == FPL_MODEL_HAMILTONIAN);
+        kick_tangent_ends_ring(n, dx, dp, lat->cn, lat->s, kap[0], kap[1], kap[n - 1], h, model);
+        return;
+    }
     if (model == FPL_MODEL_HOMOGENEOUS) {
         kick_tangent_homogeneous(n, dx, dp, kap, h);
         kick_tangent_ends(n, dx, dp, kap[0], kap[1], kap[n - 1], kap[n], h);
@@ -634,7 +688,7 @@ FPL_INLINE void drift_vector(const fpl_lattice *lat, double *v, double h, const 
  * work->kappa_stages present). */
 FPL_INLINE void steps_by_vector_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
                                      double *y, double dt, long nsteps, const int model,
-                                     const int cubic)
+                                     const int cubic, const int ring)
 {
     const fpl_lattice *lat = c->lat;
     const int st = scheme->n_kicks, n = lat->n, n_dev = c->n_dev;
@@ -648,7 +702,7 @@ FPL_INLINE void steps_by_vector_body(const fpl_splitting *scheme, const fpl_latt
     for (long k = 0; k < nsteps; k++) {
         for (int i = 0; i < st; i++) {
             drift_vector(lat, y, da[i] * dt, model);
-            kick_orbit_kappa(lat, y, kb[i] * dt, K + rows * (size_t)i, model, cubic);
+            kick_orbit_kappa(lat, y, kb[i] * dt, K + rows * (size_t)i, model, cubic, ring);
         }
         drift_vector(lat, y, da[st] * dt, model);
         for (int m0 = 1; m0 <= n_dev; m0 += vb) {
@@ -658,7 +712,7 @@ FPL_INLINE void steps_by_vector_body(const fpl_splitting *scheme, const fpl_latt
                     drift_vector(lat, y + stride * (size_t)m, da[i] * dt, model);
                 for (int m = m0; m < m1; m++)
                     kick_tangent_vector(lat, y + stride * (size_t)m, kb[i] * dt,
-                                        K + rows * (size_t)i, model);
+                                        K + rows * (size_t)i, model, ring);
             }
             for (int m = m0; m < m1; m++)
                 drift_vector(lat, y + stride * (size_t)m, da[st] * dt, model);
@@ -745,46 +799,73 @@ FPL_INLINE void tile_drift(int n, double *restrict t, double h, const double *re
     for (int j = 0; j < n; j++) tile_drift_row(TILE_ROW(t, j, nv), h, minv, j, model, nv);
 }
 
+/* Row j's tangent kick from its right bond (rows j, j+1 = a, b; curvature k): the bond's term
+ * f1, the kick with the left bond's f0, f0 = f1 for the next row. */
+FPL_INLINE void tile_bond(vec4 *restrict a, const vec4 *restrict b, vec4 *restrict f0, double k,
+                          const fpl_lattice *lat, int j, double hk, const int model, const int nv)
+{
+    const double *restrict cn = lat->cn, *restrict s = lat->s;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    for (int v = 0; v < nv; v++) {
+        vec4 f1;
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            f1 = k * (b[v] - a[v]);
+        } else {
+            const vec4 R = cn[j + 1] * b[v] - cn[j] * a[v];
+            f1 = FPL_DPHI(ham ? R : b[v] - a[v], k, R);
+        }
+        if (ham) FPL_KICK(a[nv + v], hk, s[j], f1, f0[v]);
+        else FPL_KICK_UNIT(a[nv + v], hk, f1, f0[v]);
+        f0[v] = f1;
+    }
+}
+
 /* One stage on the tile: drift by hd, then the tangent kick by hk with the curvatures kap of
  * bonds 0..N. f0 carries the tangent bond force of row j's left bond (kick_tangent_ends /
  * kick_tangent_ends_general's wall terms at the ends, the interior bonds' terms of
- * kick_tangent_homogeneous / kick_tangent_general in between). */
+ * kick_tangent_homogeneous / kick_tangent_general in between). On the ring (`ring` a constant)
+ * both ends take the wrap-around bond's term (kick_tangent_ends_ring's), row N-1 drifted first. */
 FPL_INLINE void tile_stage(int n, double *restrict t, const double *restrict kap,
                            const fpl_lattice *lat, double hd, double hk, const int model,
-                           const int nv)
+                           const int nv, const int ring)
 {
     const double *restrict cn = lat->cn, *restrict s = lat->s, *restrict minv = lat->minv;
     const int ham = model == FPL_MODEL_HAMILTONIAN;
-    vec4 f0[2];
+    vec4 f0[2], fw[2];
     vec4 *restrict r0 = TILE_ROW(t, 0, nv);
+    vec4 *rn = TILE_ROW(t, n - 1, nv);
+    if (ring) tile_drift_row(rn, hd, minv, n - 1, model, nv);
     tile_drift_row(r0, hd, minv, 0, model, nv);
     for (int v = 0; v < nv; v++) {
         const vec4 u = r0[v];
-        if (model == FPL_MODEL_HOMOGENEOUS) f0[v] = kap[0] * u;
-        else f0[v] = FPL_DPHI_LEFT(ham ? cn[0] * u : u, kap[0], cn[0], u);
-    }
-    for (int j = 0; j + 1 < n; j++) {
-        vec4 *restrict a = TILE_ROW(t, j, nv), *restrict b = TILE_ROW(t, j + 1, nv);
-        tile_drift_row(b, hd, minv, j + 1, model, nv);
-        const double k = kap[j + 1];
-        for (int v = 0; v < nv; v++) {
-            vec4 f1;
+        if (ring) {
+            const vec4 un = rn[v];
             if (model == FPL_MODEL_HOMOGENEOUS) {
-                f1 = k * (b[v] - a[v]);
+                f0[v] = kap[0] * (u - un);
             } else {
-                const vec4 R = cn[j + 1] * b[v] - cn[j] * a[v];
-                f1 = FPL_DPHI(ham ? R : b[v] - a[v], k, R);
+                const vec4 R = cn[0] * u - cn[n - 1] * un;
+                f0[v] = FPL_DPHI(ham ? R : u - un, kap[0], R);
             }
-            if (ham) FPL_KICK(a[nv + v], hk, s[j], f1, f0[v]);
-            else FPL_KICK_UNIT(a[nv + v], hk, f1, f0[v]);
-            f0[v] = f1;
+            fw[v] = f0[v];
+        } else if (model == FPL_MODEL_HOMOGENEOUS) {
+            f0[v] = kap[0] * u;
+        } else {
+            f0[v] = FPL_DPHI_LEFT(ham ? cn[0] * u : u, kap[0], cn[0], u);
         }
     }
+    /* rows 1..N-1 drifted one ahead of the kick (the ring's row N-1 already is) */
+    for (int j = 0; j + 1 < n - ring; j++) {
+        vec4 *restrict a = TILE_ROW(t, j, nv), *restrict b = TILE_ROW(t, j + 1, nv);
+        tile_drift_row(b, hd, minv, j + 1, model, nv);
+        tile_bond(a, b, f0, kap[j + 1], lat, j, hk, model, nv);
+    }
+    if (ring) tile_bond(TILE_ROW(t, n - 2, nv), rn, f0, kap[n - 1], lat, n - 2, hk, model, nv);
     vec4 *restrict r = TILE_ROW(t, n - 1, nv);
     for (int v = 0; v < nv; v++) {
         const vec4 u = r[v];
         vec4 fn;
-        if (model == FPL_MODEL_HOMOGENEOUS) fn = -kap[n] * u;
+        if (ring) fn = fw[v];
+        else if (model == FPL_MODEL_HOMOGENEOUS) fn = -kap[n] * u;
         else fn = FPL_DPHI_RIGHT(ham ? -cn[n - 1] * u : -u, kap[n], cn[n - 1], u);
         if (ham) FPL_KICK(r[nv + v], hk, s[n - 1], fn, f0[v]);
         else FPL_KICK_UNIT(r[nv + v], hk, fn, f0[v]);
@@ -795,7 +876,7 @@ FPL_INLINE void tile_stage(int n, double *restrict t, const double *restrict kap
  * work->tile present, work->kappa_rows >= scheme->n_kicks). */
 FPL_INLINE void steps_vector_inner_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
                                         double *y, double dt, long nsteps, const int model,
-                                        const int cubic, const int nv)
+                                        const int cubic, const int nv, const int ring)
 {
     const int W = 4 * nv;
     const fpl_lattice *lat = c->lat;
@@ -810,7 +891,7 @@ FPL_INLINE void steps_vector_inner_body(const fpl_splitting *scheme, const fpl_l
             for (int i = 0; i < st; i++) {
                 drift_vector(lat, y, da[i] * dt, model);
                 kick_orbit_kappa(lat, y, kb[i] * dt, K + rows * (size_t)(k * st + i), model,
-                                 cubic);
+                                 cubic, ring);
             }
             drift_vector(lat, y, da[st] * dt, model);
         }
@@ -820,7 +901,7 @@ FPL_INLINE void steps_vector_inner_body(const fpl_splitting *scheme, const fpl_l
             for (long k = 0; k < g; k++) {
                 for (int i = 0; i < st; i++)
                     tile_stage(n, t, K + rows * (size_t)(k * st + i), lat, da[i] * dt,
-                               kb[i] * dt, model, nv);
+                               kb[i] * dt, model, nv, ring);
                 tile_drift(n, t, da[st] * dt, lat->minv, model, nv);
             }
             tile_store(n, y, stride, m0, cnt, t, W);
@@ -838,25 +919,26 @@ static int steps_vector_inner(const fpl_splitting *scheme, const fpl_lattice_ctx
 }
 
 /* The many-vector steppers of one model, instantiated for beta = 0 or not and tiles of 4 (up to
- * 4 vectors: no padding lanes) or 8. Returns 0 (nothing done) where neither many-vector step
- * applies. */
+ * 4 vectors: no padding lanes) or 8; `ring` (a constant): the periodic chain. Returns 0 (nothing
+ * done) where neither many-vector step applies. */
 FPL_INLINE int steps_many_vectors(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
-                                  double *y, double dt, long nsteps, const int model)
+                                  double *y, double dt, long nsteps, const int model,
+                                  const int ring)
 {
     const int cubic = c->lat->beta != 0.0;
     if (steps_vector_inner(scheme, c)) {
         if (c->n_dev <= 4) {
-            if (cubic) steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 1, 1);
-            else steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 0, 1);
+            if (cubic) steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 1, 1, ring);
+            else steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 0, 1, ring);
         } else {
-            if (cubic) steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 1, 2);
-            else steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 0, 2);
+            if (cubic) steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 1, 2, ring);
+            else steps_vector_inner_body(scheme, c, y, dt, nsteps, model, 0, 2, ring);
         }
         return 1;
     }
     if (steps_by_vector(scheme, c)) {
-        if (cubic) steps_by_vector_body(scheme, c, y, dt, nsteps, model, 1);
-        else steps_by_vector_body(scheme, c, y, dt, nsteps, model, 0);
+        if (cubic) steps_by_vector_body(scheme, c, y, dt, nsteps, model, 1, ring);
+        else steps_by_vector_body(scheme, c, y, dt, nsteps, model, 0, ring);
         return 1;
     }
     return 0;
@@ -929,10 +1011,11 @@ FPL_INLINE void drift_range(int lo, int hi, double *restrict x, const double *re
 }
 
 /* One stage (drift hd, after hd0 if `pre`; kick hk) of model `model` with nv = n_dev = 0, 1 or 2
- * (constants), N >= 3. */
+ * (constants), N >= 3; `ring` (a constant): the periodic chain, whose interior particles are the
+ * fixed chain's and whose end particles see the wrap-around bond instead of the walls. */
 FPL_INLINE void stage_fused(const fpl_lattice_ctx *c, double *y, double hd0, double hd,
                             double hk, const int model, const int cubic, const int nv,
-                            const int pre)
+                            const int pre, const int ring)
 {
     const fpl_lattice *lat = c->lat;
     const int n = lat->n;
@@ -962,8 +1045,11 @@ FPL_INLINE void stage_fused(const fpl_lattice_ctx *c, double *y, double hd0, dou
                                            nv == 2);
         }
     }
-    /* the end particles, as kick_homogeneous_body / kick_general_body */
-    if (model == FPL_MODEL_HOMOGENEOUS) {
+    /* the end particles, as kick_homogeneous_body / kick_general_body (the ring's: as
+     * kick_ring_body / kick_general_ring_body) */
+    if (ring) {
+        kick_ring_ends(n, x, p, u, q, w, r, cn, s, a, b, h, NULL, model, cubic, nv);
+    } else if (model == FPL_MODEL_HOMOGENEOUS) {
         const double d0 = x[0], d1 = x[1] - x[0];
         const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
         const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
@@ -986,10 +1072,10 @@ FPL_INLINE void stage_fused(const fpl_lattice_ctx *c, double *y, double hd0, dou
     }
 }
 
-/* n steps with fused stages (N >= 3, nv = n_dev <= 2 a constant). */
+/* n steps with fused stages (N >= 3, nv = n_dev <= 2 and ring constants). */
 FPL_INLINE void steps_fused_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
                                  double dt, long nsteps, const int model, const int cubic,
-                                 const int nv)
+                                 const int nv, const int ring)
 {
     const int st = scheme->n_kicks, n = c->lat->n;
     const int ham = model == FPL_MODEL_HAMILTONIAN;
@@ -998,9 +1084,10 @@ FPL_INLINE void steps_fused_body(const fpl_splitting *scheme, const fpl_lattice_
     for (long k = 0; k < nsteps; k++) {
         for (int i = 0; i < st; i++) {
             if (i == 0 && k > 0)
-                stage_fused(c, y, da[st] * dt, da[0] * dt, kb[0] * dt, model, cubic, nv, 1);
+                stage_fused(c, y, da[st] * dt, da[0] * dt, kb[0] * dt, model, cubic, nv, 1,
+                            ring);
             else
-                stage_fused(c, y, 0.0, da[i] * dt, kb[i] * dt, model, cubic, nv, 0);
+                stage_fused(c, y, 0.0, da[i] * dt, kb[i] * dt, model, cubic, nv, 0, ring);
         }
     }
     if (nsteps > 0)
@@ -1011,12 +1098,13 @@ FPL_INLINE void steps_fused_body(const fpl_splitting *scheme, const fpl_lattice_
 
 /* The fused steps where they apply (returns 0 otherwise: N < 3, more than 2 vectors). */
 FPL_INLINE int steps_fused(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
-                           double dt, long nsteps, const int model, const int cubic)
+                           double dt, long nsteps, const int model, const int cubic,
+                           const int ring)
 {
     if (c->lat->n < 3 || c->n_dev > 2) return 0;
-    if (c->n_dev == 0) steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 0);
-    else if (c->n_dev == 1) steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 1);
-    else steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 2);
+    if (c->n_dev == 0) steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 0, ring);
+    else if (c->n_dev == 1) steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 1, ring);
+    else steps_fused_body(scheme, c, y, dt, nsteps, model, cubic, 2, ring);
     return 1;
 }
 
@@ -1031,7 +1119,7 @@ FPL_HOT_APART static void steps_few_homogeneous_quad(const fpl_splitting *scheme
                                                      const fpl_lattice_ctx *c, double *y,
                                                      double dt, long nsteps)
 {
-    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0))
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0, 0))
         steps_homogeneous_body(scheme, c, y, dt, nsteps, 0);
 }
 
@@ -1039,7 +1127,7 @@ FPL_HOT_APART static void steps_few_homogeneous_cubic(const fpl_splitting *schem
                                                       const fpl_lattice_ctx *c, double *y,
                                                       double dt, long nsteps)
 {
-    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1))
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1, 0))
         steps_homogeneous_body(scheme, c, y, dt, nsteps, 1);
 }
 
@@ -1047,7 +1135,7 @@ FPL_HOT_APART static void steps_few_hamiltonian_quad(const fpl_splitting *scheme
                                                      const fpl_lattice_ctx *c, double *y,
                                                      double dt, long nsteps)
 {
-    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0))
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0, 0))
         steps_general_body(scheme, c, y, dt, nsteps, 1, 0);
 }
 
@@ -1055,7 +1143,7 @@ FPL_HOT_APART static void steps_few_hamiltonian_cubic(const fpl_splitting *schem
                                                       const fpl_lattice_ctx *c, double *y,
                                                       double dt, long nsteps)
 {
-    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1))
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1, 0))
         steps_general_body(scheme, c, y, dt, nsteps, 1, 1);
 }
 
@@ -1063,7 +1151,7 @@ FPL_HOT_APART static void steps_few_nonlinear_quad(const fpl_splitting *scheme,
                                                    const fpl_lattice_ctx *c, double *y,
                                                    double dt, long nsteps)
 {
-    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0))
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0, 0))
         steps_general_body(scheme, c, y, dt, nsteps, 0, 0);
 }
 
@@ -1071,7 +1159,7 @@ FPL_HOT_APART static void steps_few_nonlinear_cubic(const fpl_splitting *scheme,
                                                     const fpl_lattice_ctx *c, double *y,
                                                     double dt, long nsteps)
 {
-    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1))
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1, 0))
         steps_general_body(scheme, c, y, dt, nsteps, 0, 1);
 }
 
@@ -1079,7 +1167,7 @@ FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, do
                                       double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
-    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0))
         return;
     if (c->lat->beta == 0.0)
         steps_few_homogeneous_quad(scheme, c, y, dt, nsteps);
@@ -1091,7 +1179,7 @@ FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, do
                                       double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
-    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0))
         return;
     if (c->lat->beta == 0.0)
         steps_few_hamiltonian_quad(scheme, c, y, dt, nsteps);
@@ -1103,12 +1191,100 @@ FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, doub
                                     double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
-    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0))
         return;
     if (c->lat->beta == 0.0)
         steps_few_nonlinear_quad(scheme, c, y, dt, nsteps);
     else
         steps_few_nonlinear_cubic(scheme, c, y, dt, nsteps);
+}
+
+/* ---- the rings' steppers: the fixed chains' fused stages and many-vector steps ------------ */
+
+/* The same code with `ring` = 1 (the interior particles are the fixed chain's; the end
+ * particles and the tiles' end rows see the wrap-around bond): the rings' kicks' operations in
+ * the same order, so bit-identical to steps_ring_body (models_periodic.c) and
+ * steps_general_ring_body, which remain for N < 3 and where neither applies. Out of line as the
+ * fixed chains' steps_few_ ones. */
+FPL_HOT_APART static int steps_few_ring_homogeneous_quad(const fpl_splitting *scheme,
+                                                         const fpl_lattice_ctx *c, double *y,
+                                                         double dt, long nsteps)
+{
+    return steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0, 1);
+}
+
+FPL_HOT_APART static int steps_few_ring_homogeneous_cubic(const fpl_splitting *scheme,
+                                                          const fpl_lattice_ctx *c, double *y,
+                                                          double dt, long nsteps)
+{
+    return steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1, 1);
+}
+
+FPL_HOT_APART static void steps_few_ring_hamiltonian_quad(const fpl_splitting *scheme,
+                                                          const fpl_lattice_ctx *c, double *y,
+                                                          double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0, 1))
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 1, 0);
+}
+
+FPL_HOT_APART static void steps_few_ring_hamiltonian_cubic(const fpl_splitting *scheme,
+                                                           const fpl_lattice_ctx *c, double *y,
+                                                           double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1, 1))
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 1, 1);
+}
+
+FPL_HOT_APART static void steps_few_ring_nonlinear_quad(const fpl_splitting *scheme,
+                                                        const fpl_lattice_ctx *c, double *y,
+                                                        double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0, 1))
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 0, 0);
+}
+
+FPL_HOT_APART static void steps_few_ring_nonlinear_cubic(const fpl_splitting *scheme,
+                                                         const fpl_lattice_ctx *c, double *y,
+                                                         double dt, long nsteps)
+{
+    if (!steps_fused(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1, 1))
+        steps_general_ring_body(scheme, c, y, dt, nsteps, 0, 1);
+}
+
+FPL_HOT int fpl_steps_ring_homogeneous_fused(const fpl_splitting *scheme, void *ctx, double *y,
+                                             double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1))
+        return 1;
+    if (c->lat->beta == 0.0)
+        return steps_few_ring_homogeneous_quad(scheme, c, y, dt, nsteps);
+    return steps_few_ring_homogeneous_cubic(scheme, c, y, dt, nsteps);
+}
+
+FPL_HOT void fpl_steps_ring_hamiltonian(const fpl_splitting *scheme, void *ctx, double *y,
+                                        double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1))
+        return;
+    if (c->lat->beta == 0.0)
+        steps_few_ring_hamiltonian_quad(scheme, c, y, dt, nsteps);
+    else
+        steps_few_ring_hamiltonian_cubic(scheme, c, y, dt, nsteps);
+}
+
+FPL_HOT void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, double *y,
+                                      double dt, long nsteps)
+{
+    const fpl_lattice_ctx *c = ctx;
+    if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1))
+        return;
+    if (c->lat->beta == 0.0)
+        steps_few_ring_nonlinear_quad(scheme, c, y, dt, nsteps);
+    else
+        steps_few_ring_nonlinear_cubic(scheme, c, y, dt, nsteps);
 }
 
 /* ---- anharmonic force (for the harmonic-split schemes, harmonic_split.c) ---------------- */

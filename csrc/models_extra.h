@@ -45,6 +45,10 @@ void fpl_steps_ring_hamiltonian(const fpl_splitting *scheme, void *ctx, double *
                                 long nsteps);
 void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, double *y, double dt,
                               long nsteps);
+/* models.c: the homogeneous ring's fused stages and many-vector steps (returns 0, nothing done,
+ * where they do not apply: N < 3, more than 2 vectors beyond the many-vector steps' reach). */
+int fpl_steps_ring_homogeneous_fused(const fpl_splitting *scheme, void *ctx, double *y, double dt,
+                                     long nsteps);
 
 /* model_toda.c: coefficients (all 1) and the kicks, p += h F(x), dp += h J(x) dx. */
 void fpl_toda_coefficients(double v, double *cl, double *cn, double *s, double *minv);

@@ -194,6 +194,8 @@ FPL_HOT static void steps_homogeneous_periodic(const fpl_splitting *scheme, void
                                                double dt, long nsteps)
 {
     const fpl_lattice_ctx *c = ctx;
+    if (fpl_steps_ring_homogeneous_fused(scheme, ctx, y, dt, nsteps))
+        return;
     if (c->lat->beta == 0.0)
         steps_ring_body(scheme, c, y, dt, nsteps, 0);
     else

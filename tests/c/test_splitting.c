@@ -599,7 +599,10 @@ static void test_homogeneous_kernels(void)
  * taken vector by vector), beta = 0 and 0.3, N = 2 (the short-chain path), 3 (one interior
  * particle), 17 (a vector-width remainder), 64, 259 (the fused drift-and-kick stage of up to 2
  * vectors in blocks of 256 particles: a last block of one particle) and 600 (three blocks of it,
- * two of the many-vector kick). */
+ * two of the many-vector kick). Rings too, up to N = 259: they take the same fused stages and
+ * many-vector steps (bond 0 joining particles N-1 and 0), checked bit for bit against their own
+ * per-stage drift and kick (the ring kicks of models_periodic.c and models.c) and to round-off
+ * against the generic ring kernels. */
 static void reference_steps(const fpl_splitting *sc, const fpl_lattice *lat, double *y, int k,
                             double dt, long nsteps, double *f, double *dx, double *df)
 {
@@ -634,17 +637,20 @@ static void test_model_kernels(void)
     for (int i = 0; i < NMAX; i++) v[i] = 1.0 + 0.4 * sin(1.3 * i + 0.2 * (i * i % 7));
     double worst[4] = {0};
     int cases = 0;
-    for (int model = 1; model <= 3; model++)
+    for (int mb = 0; mb < 6; mb++)   /* models 1-3, each with fixed ends and as a ring */
         for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++)
             for (size_t ib = 0; ib < 2; ib++)
                 for (size_t id = 0; id < sizeof devs / sizeof *devs; id++)
                     for (size_t is = 0; is < 2; is++) {
-                        const int n = sizes[in], k = devs[id];
+                        const int model = 1 + mb / 2, n = sizes[in], k = devs[id];
+                        const int bnd = mb % 2 ? FPL_BOUNDARY_PERIODIC : FPL_BOUNDARY_FIXED;
+                        if (bnd == FPL_BOUNDARY_PERIODIC && n > 259) continue;   /* test time */
                         const long len = 2L * n * (k + 1), steps = 100;
                         const fpl_splitting *sc = scheme(names[is]);
                         fpl_lattice *lat = NULL;
-                        CHECK_OK(fpl_lattice_create(n, 0.25, betas[ib], model,
-                                                    model == FPL_MODEL_HOMOGENEOUS ? NULL : v, &lat));
+                        CHECK_OK(fpl_lattice_create_ex(n, 0.25, betas[ib], model,
+                                                       model == FPL_MODEL_HOMOGENEOUS ? NULL : v,
+                                                       bnd, &lat));
                         if (!lat || !sc) return;
                         for (long i = 0; i < len; i++)   /* a deterministic, irregular state */
                             y0[i] = 0.6 * sin(0.7 * (double)i + 0.3 * (double)(i * i % 11));
@@ -664,9 +670,10 @@ static void test_model_kernels(void)
                         }
                         reference_steps(sc, lat, yb, k, 0.05, steps, f, dx, df);
                         CHECK(memcmp(ya, yc, sizeof(double) * (size_t)len) == 0,
-                              "model %d %s N=%d beta=%g k=%d: the fused stepper differs from the "
-                              "model's per-stage drift and kick", model, names[is], n, betas[ib], k);
-                        if (model != FPL_MODEL_HAMILTONIAN)
+                              "model %d boundary %d %s N=%d beta=%g k=%d: the fused stepper differs "
+                              "from the model's per-stage drift and kick", model, bnd, names[is], n,
+                              betas[ib], k);
+                        if (model != FPL_MODEL_HAMILTONIAN && bnd == FPL_BOUNDARY_FIXED)
                             CHECK(memcmp(ya, yb, sizeof(double) * 2 * (size_t)n) == 0,
                                   "model %d %s N=%d beta=%g k=%d: orbit differs from the generic "
                                   "kernels", model, names[is], n, betas[ib], k);
@@ -680,8 +687,8 @@ static void test_model_kernels(void)
     for (int model = 1; model <= 3; model++)
         CHECK(worst[model] < 1e-12, "model %d: the fused kernels differ from the generic ones by "
               "%.2e", model, worst[model]);
-    printf("fused kernels = generic kernels: %d cases, model 1 %.1e, model 2 %.1e, model 3 %.1e "
-           "(models 1 and 3: orbit bit for bit)\n", cases, worst[1], worst[2], worst[3]);
+    printf("fused kernels = generic kernels, fixed ends and rings: %d cases, model 1 %.1e, model 2 "
+           "%.1e, model 3 %.1e (models 1 and 3, fixed ends: orbit bit for bit)\n", cases, worst[1], worst[2], worst[3]);
 }
 
 /* Many deviation vectors on every model and boundary (issue 22): the fused stepper
@@ -691,14 +698,15 @@ static void test_model_kernels(void)
  * evaluations of reference_steps to round-off. k = 1, 2, 6 and 2N (2N = 34: four full tiles and
  * one of 2; 128: sixteen tiles), N = 3, 17, 64, beta = 0 and 0.3 (Toda: beta = 0), 30 steps,
  * which with N = 64 is less than a group of steps of the orbit (168 Yoshida steps), and 203 steps
- * at N = 17 (several groups and a short last one). */
+ * at N = 17 (several groups and a short last one); N = 1030 (beyond the tiles: from 8 vectors the
+ * step taken vector by vector) with k = 1, 2, 6 and 9. The rings take the fixed chains' steps. */
 static void test_many_vectors(void)
 {
-    enum { NMAX = 64, KMAX = 128, LMAX = 2 * NMAX * (KMAX + 1) };
-    static const int sizes[] = {3, 17, 64};
+    enum { NMAX = 1030, LMAX = 2 * NMAX * 10, DMAX = NMAX * 10 };   /* the largest: N = 1030, k = 9 */
+    static const int sizes[] = {3, 17, 64, 1030};
     static const char *const names[] = {"yoshida4", "srkn14a6"};
-    static double v[NMAX], ya[LMAX], yb[LMAX], yc[LMAX], f[NMAX], dx[NMAX * KMAX],
-        df[NMAX * KMAX], phi[NMAX + 1], kap[NMAX + 1], dphi[NMAX + 1];
+    static double v[NMAX], ya[LMAX], yb[LMAX], yc[LMAX], f[NMAX], dx[DMAX], df[DMAX],
+        phi[NMAX + 1], kap[NMAX + 1], dphi[NMAX + 1];
     for (int i = 0; i < NMAX; i++) v[i] = 1.0 + 0.4 * sin(1.3 * i + 0.2 * (i * i % 7));
     double worst = 0.0;
     int cases = 0;
@@ -707,7 +715,8 @@ static void test_many_vectors(void)
             for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++)
                 for (int ib = 0; ib < 2; ib++)
                     for (int id = 0; id < 4; id++) {
-                        const int n = sizes[in], k = id == 3 ? 2 * n : (int[]){1, 2, 6}[id];
+                        const int n = sizes[in];
+                        const int k = id < 3 ? (int[]){1, 2, 6}[id] : n > 64 ? 9 : 2 * n;
                         const int bnd = boundary ? FPL_BOUNDARY_PERIODIC : FPL_BOUNDARY_FIXED;
                         const double beta = model == FPL_MODEL_TODA ? 0.0 : 0.3 * ib;
                         if (model == FPL_MODEL_TODA && ib) continue;
@@ -746,7 +755,7 @@ static void test_many_vectors(void)
                     }
     CHECK(worst < 1e-11, "many vectors: the fused kernels differ from the generic ones by %.2e",
           worst);
-    printf("many vectors (k = 1, 2, 6, 2N), every model and boundary: %d cases, fused = per-stage "
+    printf("many vectors (k = 1, 2, 6, 2N or 9), every model and boundary: %d cases, fused = per-stage "
            "bit for bit, = generic within %.1e\n", cases, worst);
 }
 
