@@ -1020,6 +1020,154 @@ FPL_INLINE int steps_fused(const fpl_splitting *scheme, const fpl_lattice_ctx *c
     return 1;
 }
 
+/* ---- many deviation vectors on long chains: the stage fused, kappa once a block ----------- */
+
+/* With 3 or more vectors on chains beyond the vector-inner tiles (N > FPL_VEC_INNER_MAX_N, where
+ * a tile of 8 vectors leaves L2) the stage-by-stage step made two passes over the whole state
+ * per stage: every vector's drift, then the kick (kappa of a block of bonds once, each vector's
+ * tangent kick on the block). Here a stage is one pass, as stage_fused's for up to 2 vectors:
+ * block by block, the orbit is drifted and kicked (kappa of the block's bonds into
+ * work->kappa, 4 kB, in L1), then each vector in turn is drifted on the block and kicked with
+ * those kappas while its block (8 kB) is still in L1. The last drift of a step and the first of
+ * the next are one pass (x += h_s p, then x += h_0 p). Every element gets the operations of the
+ * stage-by-stage order (kick_homogeneous_body / kick_general_body with n_dev > 2), in that order:
+ * bit-identical. */
+#define FUSE_MANY_BLOCK 512
+
+/* dp_i += h (kappa_{i+1} ddx_{i+1} - kappa_i ddx_i) for i in [lo, hi) (kick_tangent_homogeneous
+ * on a range). */
+FPL_INLINE void kick_tangent_homogeneous_range(int lo, int hi, const double *restrict dx,
+                                               double *restrict dp, const double *restrict kap,
+                                               double h)
+{
+    for (int i = lo; i < hi; i++)
+        FPL_KICK_UNIT(dp[i], h, kap[i + 1] * (dx[i + 1] - dx[i]), kap[i] * (dx[i] - dx[i - 1]));
+}
+
+/* One stage (drift hd, after hd0 if `pre`; kick hk) with c->n_dev >= 3 vectors, N >= 3. */
+FPL_INLINE void stage_fused_many(const fpl_lattice_ctx *c, double *y, double hd0, double hd,
+                                 double hk, const int model, const int cubic, const int pre)
+{
+    const fpl_lattice *lat = c->lat;
+    const int n = lat->n, n_dev = c->n_dev;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double a = lat->alpha, b = lat->beta, h = hk;
+    const double *restrict cn = lat->cn, *restrict s = lat->s, *restrict minv = lat->minv;
+    double *restrict kap = c->work->kappa;
+    const size_t stride = 2 * (size_t)n;
+    double *x = y, *p = y + n;
+    int done = 0;   /* particles [0, done) drifted */
+    for (int i0 = 1; i0 < n - 1; i0 += FUSE_MANY_BLOCK) {
+        const int i1 = i0 + FUSE_MANY_BLOCK < n - 1 ? i0 + FUSE_MANY_BLOCK : n - 1;
+        const int d1 = i1 == n - 1 ? n : i1 + 1;
+        drift_range(done, d1, x, p, minv, hd0, hd, ham, pre);
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            kick_orbit_homogeneous(i0, i1, x, p, a, b, h, kap, cubic);
+            kap[i1] = KAP_C(x[i1] - x[i1 - 1]);
+        } else {
+            kick_orbit_general(i0, i1, x, p, cn, s, a, b, h, kap, ham, cubic);
+        }
+        for (int m = 1; m <= n_dev; m++) {
+            double *u = y + stride * (size_t)m, *q = u + n;
+            drift_range(done, d1, u, q, minv, hd0, hd, ham, pre);
+            if (model == FPL_MODEL_HOMOGENEOUS)
+                kick_tangent_homogeneous_range(i0, i1, u, q, kap, h);
+            else
+                kick_tangent_general(i0, i1, u, q, cn, s, kap, h, ham);
+        }
+        done = d1;
+    }
+    /* the end particles, as kick_homogeneous_body / kick_general_body */
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        const double d0 = x[0], d1 = x[1] - x[0];
+        const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
+        const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
+        const double k0 = KAP_H(d0), k1 = KAP_H(d1), km = KAP_H(dm), kn = KAP_H(dn);
+        FPL_KICK_UNIT(p[0], h, phi1, phi0);
+        FPL_KICK_UNIT(p[n - 1], h, phin, phim);
+        for (int m = 1; m <= n_dev; m++) {
+            double *u = y + stride * (size_t)m;
+            kick_tangent_ends(n, u, u + n, k0, k1, km, kn, h);
+        }
+    } else {
+        const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
+        const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1], Rn = -cn[n - 1] * x[n - 1];
+        const double R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+        const double phi0 = PHI_G(L0, R0), phi1 = PHI_G(L_IN(x, 1), R1);
+        const double phim = PHI_G(L_IN(x, n - 1), Rm), phin = PHI_G(Ln, Rn);
+        const double k0 = KAP_G(R0), k1 = KAP_G(R1), km = KAP_G(Rm), kn = KAP_G(Rn);
+        KICK_G(p[0], 0, phi1, phi0);
+        KICK_G(p[n - 1], n - 1, phin, phim);
+        for (int m = 1; m <= n_dev; m++) {
+            double *u = y + stride * (size_t)m;
+            kick_tangent_ends_general(n, u, u + n, cn, s, k0, k1, km, kn, h, ham);
+        }
+    }
+}
+
+/* n steps with fused stages and n_dev >= 3 vectors (N >= 3). */
+FPL_INLINE void steps_fused_many_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                      double *y, double dt, long nsteps, const int model,
+                                      const int cubic)
+{
+    const int st = scheme->n_kicks, n = c->lat->n;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    const size_t stride = 2 * (size_t)n;
+    for (long k = 0; k < nsteps; k++) {
+        for (int i = 0; i < st; i++) {
+            if (i == 0 && k > 0)
+                stage_fused_many(c, y, da[st] * dt, da[0] * dt, kb[0] * dt, model, cubic, 1);
+            else
+                stage_fused_many(c, y, 0.0, da[i] * dt, kb[i] * dt, model, cubic, 0);
+        }
+    }
+    if (nsteps > 0)
+        for (int m = 0; m <= c->n_dev; m++)
+            drift_range(0, n, y + stride * (size_t)m, y + stride * (size_t)m + n, c->lat->minv,
+                        0.0, da[st] * dt, ham, 0);
+}
+
+/* One out-of-line function per model and beta (see FPL_HOT_APART below). */
+#define FPL_HOT_APART_MANY FPL_HOT __attribute__((noinline))
+#define STEPS_FUSED_MANY(name, model, cubic)                                                     \
+    FPL_HOT_APART_MANY static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,  \
+                                        double *y, double dt, long nsteps)                      \
+    {                                                                                            \
+        steps_fused_many_body(scheme, c, y, dt, nsteps, model, cubic);                           \
+    }
+STEPS_FUSED_MANY(steps_fused_many_homogeneous_quad, FPL_MODEL_HOMOGENEOUS, 0)
+STEPS_FUSED_MANY(steps_fused_many_homogeneous_cubic, FPL_MODEL_HOMOGENEOUS, 1)
+STEPS_FUSED_MANY(steps_fused_many_hamiltonian_quad, FPL_MODEL_HAMILTONIAN, 0)
+STEPS_FUSED_MANY(steps_fused_many_hamiltonian_cubic, FPL_MODEL_HAMILTONIAN, 1)
+STEPS_FUSED_MANY(steps_fused_many_nonlinear_quad, FPL_MODEL_NONLINEAR, 0)
+STEPS_FUSED_MANY(steps_fused_many_nonlinear_cubic, FPL_MODEL_NONLINEAR, 1)
+
+/* Whether the long-chain many-vector step applies: 3 or more vectors on a chain the vector-inner
+ * tiles do not serve (those and the vector-by-vector step are tried first). */
+static int steps_fused_many_applies(const fpl_lattice_ctx *c)
+{
+    return c->n_dev >= FPL_VEC_INNER_MIN_DEV && c->lat->n > FPL_VEC_INNER_MAX_N;
+}
+
+/* The long-chain many-vector steps where they apply (returns 0 otherwise). */
+static int steps_fused_many(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
+                            double dt, long nsteps, const int model)
+{
+    if (!steps_fused_many_applies(c)) return 0;
+    const int cubic = c->lat->beta != 0.0;
+    if (model == FPL_MODEL_HOMOGENEOUS)
+        (cubic ? steps_fused_many_homogeneous_cubic : steps_fused_many_homogeneous_quad)(
+            scheme, c, y, dt, nsteps);
+    else if (model == FPL_MODEL_HAMILTONIAN)
+        (cubic ? steps_fused_many_hamiltonian_cubic : steps_fused_many_hamiltonian_quad)(
+            scheme, c, y, dt, nsteps);
+    else
+        (cubic ? steps_fused_many_nonlinear_cubic : steps_fused_many_nonlinear_quad)(
+            scheme, c, y, dt, nsteps);
+    return 1;
+}
+
 /* The steppers with 0, 1 or 2 deviation vectors (stages fused) or too many or too long a chain
  * for the many-vector steps (stage by stage), one out-of-line function per model and beta. noinline: inlined into
  * steps_<model> beside the many-vector steppers, the kick loop lost its registers to that
@@ -1081,6 +1229,8 @@ FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, do
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
         return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
+        return;
     if (c->lat->beta == 0.0)
         steps_few_homogeneous_quad(scheme, c, y, dt, nsteps);
     else
@@ -1093,6 +1243,8 @@ FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, do
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
         return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
+        return;
     if (c->lat->beta == 0.0)
         steps_few_hamiltonian_quad(scheme, c, y, dt, nsteps);
     else
@@ -1104,6 +1256,8 @@ FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, doub
 {
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
+        return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
         return;
     if (c->lat->beta == 0.0)
         steps_few_nonlinear_quad(scheme, c, y, dt, nsteps);
