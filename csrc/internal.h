@@ -85,6 +85,18 @@ typedef struct fpl_work {
 #define FPL_SWEEP_BLOCK 512
 #define FPL_SWEEP_STAGES 32
 #define FPL_SWEEP_ROW (FPL_SWEEP_BLOCK + FPL_SWEEP_STAGES + 2)
+/* Whom the sweep serves: 3 or more vectors on chains beyond the vector-inner tiles, and 1 or 2
+ * vectors where the state exceeds FPL_SWEEP_FEW_MIN_BYTES (10 MiB: N > 218 453 with two vectors,
+ * N > 327 680 with one); there the stage-fused pass streams every stage through memory, and at
+ * N a multiple of 512 its 9 arrays (model 2, two vectors) share each L1 set of 8 ways
+ * (benchmarks/README.md). Without vectors the sweep is slower (its kappa rows and loop overhead
+ * buy nothing). */
+#define FPL_SWEEP_FEW_MIN_BYTES (10.0 * 1048576.0)
+static inline int fpl_sweep_serves(int n, int n_dev)
+{
+    if (n <= FPL_VEC_INNER_MAX_N || n_dev < 1) return 0;
+    return n_dev >= FPL_VEC_INNER_MIN_DEV || 16.0 * n * (n_dev + 1) > FPL_SWEEP_FEW_MIN_BYTES;
+}
 
 /* A real DFT of any length m in O(m log m) (fft.c): GSL's mixed radix, or Bluestein's algorithm
  * for lengths with a large prime factor. forward: data (length m) -> GSL's half-complex layout

@@ -1348,8 +1348,9 @@ FPL_INLINE void steps_sweep_body(const fpl_splitting *scheme, const fpl_lattice_
 
 static int steps_sweep_applies(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
 {
-    return c->lat->n > 2 * FPL_SWEEP_BLOCK && scheme->n_kicks <= FPL_SWEEP_STAGES &&
-           c->work->sweep_rows && c->work->sweep_carry && c->work->sweep_dev >= c->n_dev;
+    return c->lat->n > 2 * FPL_SWEEP_BLOCK && c->n_dev >= 1 &&
+           scheme->n_kicks <= FPL_SWEEP_STAGES && c->work->sweep_rows && c->work->sweep_carry &&
+           c->work->sweep_dev >= c->n_dev;
 }
 
 /* One out-of-line function per model and beta (see FPL_HOT_APART below). */
@@ -1370,18 +1371,22 @@ STEPS_FUSED_MANY(steps_fused_many_hamiltonian_cubic, FPL_MODEL_HAMILTONIAN, 1)
 STEPS_FUSED_MANY(steps_fused_many_nonlinear_quad, FPL_MODEL_NONLINEAR, 0)
 STEPS_FUSED_MANY(steps_fused_many_nonlinear_cubic, FPL_MODEL_NONLINEAR, 1)
 
-/* Whether the long-chain many-vector step applies: 3 or more vectors on a chain the vector-inner
- * tiles do not serve (those and the vector-by-vector step are tried first). */
-static int steps_fused_many_applies(const fpl_lattice_ctx *c)
+/* Whether the long-chain steps apply: 3 or more vectors on a chain the vector-inner tiles do not
+ * serve (those and the vector-by-vector step are tried first), the sweep if its scratch is there,
+ * else the stage-fused pass; 1 or 2 vectors only where the sweep serves them (fpl_sweep_serves),
+ * else the stage_fused pass of steps_fused. */
+static int steps_fused_many_applies(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
 {
-    return c->n_dev >= FPL_VEC_INNER_MIN_DEV && c->lat->n > FPL_VEC_INNER_MAX_N;
+    if (c->lat->n <= FPL_VEC_INNER_MAX_N) return 0;
+    if (c->n_dev >= FPL_VEC_INNER_MIN_DEV) return 1;
+    return fpl_sweep_serves(c->lat->n, c->n_dev) && steps_sweep_applies(scheme, c);
 }
 
 /* The long-chain many-vector steps where they apply (returns 0 otherwise). */
 static int steps_fused_many(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
                             double dt, long nsteps, const int model)
 {
-    if (!steps_fused_many_applies(c)) return 0;
+    if (!steps_fused_many_applies(scheme, c)) return 0;
     const int cubic = c->lat->beta != 0.0;
     if (model == FPL_MODEL_HOMOGENEOUS)
         (cubic ? steps_fused_many_homogeneous_cubic : steps_fused_many_homogeneous_quad)(

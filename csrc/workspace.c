@@ -38,7 +38,7 @@ int fpl_work_create(int n, int modes, fpl_work **out)
 int fpl_work_reserve_vectors(fpl_work *w, int n_dev)
 {
     const int n = w->n;
-    if (n > FPL_VEC_INNER_MAX_N && n_dev >= FPL_VEC_INNER_MIN_DEV) {
+    if (fpl_sweep_serves(n, n_dev)) {
         /* the long-chain sweep: its kappa rows and the carried bond terms of n_dev vectors */
         if (!w->sweep_rows)
             w->sweep_rows = malloc(sizeof(double) * FPL_SWEEP_STAGES * FPL_SWEEP_ROW);
