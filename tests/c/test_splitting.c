@@ -757,8 +757,9 @@ static void test_many_vectors(void)
  * against one call per stage of the model's drift and kick, bit for bit, and against the generic
  * one-shot evaluations of reference_steps to round-off; models 1-3, beta = 0 and 0.3, k = 3 and
  * 9, N = 1025 (a last block of one particle), 1536 (three full blocks) and 2100; Yoshida 4 over
- * 23 steps (three sweeps of 10, 10 and 3 steps), SRKN14a6 over 9 (4 + 4 + 1), leapfrog over 40
- * (32 + 8), and two calls (the last drift of a call is not merged into the next). */
+ * 23 steps (sweeps of 10, 10 and 1 step, then a second call of 2: the last drift of a call is
+ * not merged into the next), SRKN14a6 over 9 (sweeps of 2 steps and 1), leapfrog over 40 (32 + 6,
+ * then 2). */
 static void test_long_chain_many_vectors(void)
 {
     enum { NMAX = 2100, KMAX = 9, LMAX = 2 * NMAX * (KMAX + 1) };
@@ -835,7 +836,7 @@ static void test_long_chain_many_vectors(void)
 /* One and two deviation vectors on chains whose state exceeds 10 MiB take the sweep too (issue
  * 22): N = 218 454 with 2 vectors (the first N it serves) and 327 681 with 1, models 1-3, against
  * one call per stage of the model's drift and kick, bit for bit (Yoshida 4, 12 steps in two
- * calls: sweeps of 10 and 0 + 2 steps). */
+ * calls: a full sweep of 10 steps, then one of 2). */
 static void test_long_chain_few_vectors(void)
 {
     static const int sizes[] = {218454, 327681}, devs[] = {2, 1};
