@@ -670,7 +670,7 @@ FPL_INLINE void steps_by_vector_body(const fpl_splitting *scheme, const fpl_latt
  * N = 32 on it was 5-15 % faster (N = 32-512, k = 8-2N, all three models); with fewer vectors or
  * shorter chains the stage-by-stage kick with kappa in registers or one array is as fast or
  * faster (benchmarks/roofline.c, measured under load). Longer chains take the sweeps below
- * (steps_sweep_body: 10-20 % faster than this at N = 4096, k = 8, 16 and 2N). */
+ * (steps_sweep_body: 11-23 % faster than this at N = 4096, k = 8, 16 and 2N). */
 static int steps_by_vector(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
 {
     return c->n_dev >= 8 && c->lat->n >= 32 && c->lat->n <= FPL_VEC_INNER_MAX_N &&
