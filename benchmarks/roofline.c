@@ -26,7 +26,9 @@
  * over the state, a step's last drift in the next step's first pass): 3 passes reading and
  * writing x, p of each vector (32 bytes each) and reading the coefficients (model 2: minv, cn, s;
  * model 3: cn), model 1 with 2 vectors 288 bytes, model 3 312, model 2 360 (column "fpl B",
- * "fpl/fbnd" = fputlab against that traffic at the triad bandwidth).
+ * "fpl/fbnd" = fputlab against that traffic at the triad bandwidth). Chains of N > 1024 with 3 or
+ * more vectors (and with 1 or 2 where the state exceeds 10 MiB) take sweeps of 10 steps, the
+ * chain block by block: one such pass per 10 steps.
  * Cost = process CPU time per particle-step (ns), best of the repeats (at least 10 steps each),
  * fputlab and plain C
  * interleaved in each repeat (the machine is shared). The plain step is checked against
@@ -270,11 +272,17 @@ static double step_bytes(int model, int k)
     return 4.0 * drift + 3.0 * kick;
 }
 
-/* Bytes per particle-step of fputlab's fused step (k <= 2; else the step above). */
-static double fused_step_bytes(int model, int k)
+/* Bytes per particle-step of fputlab's own step: the stage-fused one (k <= 2: three passes a
+ * step); on chains of N > 1024 with k >= 3, or k = 1, 2 and a state over 10 MiB, the sweeps (one
+ * pass per 10 Yoshida 4 steps, the chain block by block); else (k >= 3, N <= 1024) the two-pass
+ * step's bytes. */
+static double fused_step_bytes(int model, int n, int k)
 {
+    const double pass = 32.0 * (k + 1) + (model == 2 ? 24.0 : model == 3 ? 8.0 : 0.0);
+    const int sweep = n > 1024 && (k >= 3 || (k >= 1 && 16.0 * n * (k + 1) > 10.0 * 1048576.0));
+    if (sweep) return pass / 10.0;
     if (k > 2) return step_bytes(model, k);
-    return 3.0 * (32.0 * (k + 1) + (model == 2 ? 24.0 : model == 3 ? 8.0 : 0.0));
+    return 3.0 * pass;
 }
 
 /* Triad a = b + s c on 3 arrays of m doubles: bytes/s, best of `repeats`. */
@@ -408,7 +416,7 @@ int main(int argc, char **argv)
                 printf("%5d %8d %5d %9.0f %12.3f %12.3f %12.3f %9.2f %9.2f %9.2f %9s %6.0f %8.2f\n",
                        model, n, k, step_bytes(model, k), best_f * 1e9, best_p * 1e9, bound * 1e9,
                        best_f / best_p, best_f / bound, best_f / t_model1[in][id], per_vec,
-                       fused_step_bytes(model, k), best_f * bw / fused_step_bytes(model, k));
+                       fused_step_bytes(model, n, k), best_f * bw / fused_step_bytes(model, n, k));
                 fflush(stdout);
                 free(a);
                 free(b);

@@ -58,6 +58,13 @@ typedef struct fpl_work {
     /* 2 x FPL_VEC_TILE x N: one tile of deviation vectors in the vector-inner layout of the
      * many-vector step (models.c); NULL until fpl_work_reserve_vectors asks for it. */
     double *tile;
+    /* The long-chain many-vector sweep (models.c, N > FPL_VEC_INNER_MAX_N, 3 or more vectors):
+     * FPL_SWEEP_STAGES rows of FPL_SWEEP_ROW bond curvatures of one chain block, and the bond
+     * terms carried from one block to the next (per stage 2 of the orbit, 1 per vector); NULL
+     * until fpl_work_reserve_vectors asks for them. sweep_dev: the vectors sweep_carry holds. */
+    double *sweep_rows;
+    double *sweep_carry;
+    int sweep_dev;
 } fpl_work;
 /* The most kicks a step of a kinetic splitting scheme has (srkn14a6), and the largest N with a
  * kappa_stages array (14 x 8193 doubles, 0.9 MB). */
@@ -71,6 +78,25 @@ typedef struct fpl_work {
 #define FPL_VEC_INNER_MIN_DEV 3
 #define FPL_KAPPA_GROUP_DOUBLES 32768
 #define FPL_KAPPA_ROWS_MAX 1024
+/* The sweep: particles per chain block (a vector's block, 8 kB, stays in L1 through the sweep's
+ * stages), the most stages a sweep takes (the block's drift and kick regions move one particle
+ * left per stage), and the length of a kappa row (the block, the stages' shift and the two
+ * bonds at its ends). */
+#define FPL_SWEEP_BLOCK 512
+#define FPL_SWEEP_STAGES 32
+#define FPL_SWEEP_ROW (FPL_SWEEP_BLOCK + FPL_SWEEP_STAGES + 2)
+/* Whom the sweep serves: 3 or more vectors on chains beyond the vector-inner tiles, and 1 or 2
+ * vectors where the state exceeds FPL_SWEEP_FEW_MIN_BYTES (10 MiB: N > 218 453 with two vectors,
+ * N > 327 680 with one); there the stage-fused pass streams every stage through memory, and at
+ * N a multiple of 512 its 9 arrays (model 2, two vectors) share each L1 set of 8 ways
+ * (benchmarks/README.md). Without vectors the sweep is slower (its kappa rows and loop overhead
+ * buy nothing). */
+#define FPL_SWEEP_FEW_MIN_BYTES (10.0 * 1048576.0)
+static inline int fpl_sweep_serves(int n, int n_dev)
+{
+    if (n <= FPL_VEC_INNER_MAX_N || n_dev < 1) return 0;
+    return n_dev >= FPL_VEC_INNER_MIN_DEV || 16.0 * n * (n_dev + 1) > FPL_SWEEP_FEW_MIN_BYTES;
+}
 
 /* A real DFT of any length m in O(m log m) (fft.c): GSL's mixed radix, or Bluestein's algorithm
  * for lengths with a large prime factor. forward: data (length m) -> GSL's half-complex layout

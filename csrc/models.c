@@ -723,11 +723,12 @@ FPL_INLINE void steps_by_vector_body(const fpl_splitting *scheme, const fpl_latt
 /* Whether the vector-by-vector step applies (else the stage-by-stage one): from 8 vectors and
  * N = 32 on it was 5-15 % faster (N = 32-512, k = 8-2N, all three models); with fewer vectors or
  * shorter chains the stage-by-stage kick with kappa in registers or one array is as fast or
- * faster (benchmarks/roofline.c, measured under load). */
+ * faster (benchmarks/roofline.c, measured under load). Longer chains take the sweeps below
+ * (steps_sweep_body: 11-23 % faster than this at N = 4096, k = 8, 16 and 2N). */
 static int steps_by_vector(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
 {
-    return c->n_dev >= 8 && c->lat->n >= 32 && c->work->kappa_stages &&
-           scheme->n_kicks <= FPL_KAPPA_STAGES;
+    return c->n_dev >= 8 && c->lat->n >= 32 && c->lat->n <= FPL_VEC_INNER_MAX_N &&
+           c->work->kappa_stages && scheme->n_kicks <= FPL_KAPPA_STAGES;
 }
 
 /* ---- many deviation vectors: vector-inner tiles ------------------------------------------ */
@@ -1108,6 +1109,385 @@ FPL_INLINE int steps_fused(const fpl_splitting *scheme, const fpl_lattice_ctx *c
     return 1;
 }
 
+/* ---- many deviation vectors on long chains: the stage fused, kappa once a block ----------- */
+
+/* With 3 or more vectors on chains beyond the vector-inner tiles (N > FPL_VEC_INNER_MAX_N, where
+ * a tile of 8 vectors leaves L2) the stage-by-stage step made two passes over the whole state
+ * per stage: every vector's drift, then the kick (kappa of a block of bonds once, each vector's
+ * tangent kick on the block). Here a stage is one pass, as stage_fused's for up to 2 vectors:
+ * block by block, the orbit is drifted and kicked (kappa of the block's bonds into
+ * work->kappa, 4 kB, in L1), then each vector in turn is drifted on the block and kicked with
+ * those kappas while its block (8 kB) is still in L1. The last drift of a step and the first of
+ * the next are one pass (x += h_s p, then x += h_0 p). Every element gets the operations of the
+ * stage-by-stage order (kick_homogeneous_body / kick_general_body with n_dev > 2), in that order:
+ * bit-identical. */
+#define FUSE_MANY_BLOCK 512
+
+/* dp_i += h (kappa_{i+1} ddx_{i+1} - kappa_i ddx_i) for i in [lo, hi) (kick_tangent_homogeneous
+ * on a range). */
+FPL_INLINE void kick_tangent_homogeneous_range(int lo, int hi, const double *restrict dx,
+                                               double *restrict dp, const double *restrict kap,
+                                               double h)
+{
+    for (int i = lo; i < hi; i++)
+        FPL_KICK_UNIT(dp[i], h, kap[i + 1] * (dx[i + 1] - dx[i]), kap[i] * (dx[i] - dx[i - 1]));
+}
+
+/* One stage (drift hd, after hd0 if `pre`; kick hk) with c->n_dev >= 3 vectors, N >= 3. */
+FPL_INLINE void stage_fused_many(const fpl_lattice_ctx *c, double *y, double hd0, double hd,
+                                 double hk, const int model, const int cubic, const int pre)
+{
+    const fpl_lattice *lat = c->lat;
+    const int n = lat->n, n_dev = c->n_dev;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double a = lat->alpha, b = lat->beta, h = hk;
+    const double *restrict cn = lat->cn, *restrict s = lat->s, *restrict minv = lat->minv;
+    double *restrict kap = c->work->kappa;
+    const size_t stride = 2 * (size_t)n;
+    double *x = y, *p = y + n;
+    int done = 0;   /* particles [0, done) drifted */
+    for (int i0 = 1; i0 < n - 1; i0 += FUSE_MANY_BLOCK) {
+        const int i1 = i0 + FUSE_MANY_BLOCK < n - 1 ? i0 + FUSE_MANY_BLOCK : n - 1;
+        const int d1 = i1 == n - 1 ? n : i1 + 1;
+        drift_range(done, d1, x, p, minv, hd0, hd, ham, pre);
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            kick_orbit_homogeneous(i0, i1, x, p, a, b, h, kap, cubic);
+            kap[i1] = KAP_C(x[i1] - x[i1 - 1]);
+        } else {
+            kick_orbit_general(i0, i1, x, p, cn, s, a, b, h, kap, ham, cubic);
+        }
+        for (int m = 1; m <= n_dev; m++) {
+            double *u = y + stride * (size_t)m, *q = u + n;
+            drift_range(done, d1, u, q, minv, hd0, hd, ham, pre);
+            if (model == FPL_MODEL_HOMOGENEOUS)
+                kick_tangent_homogeneous_range(i0, i1, u, q, kap, h);
+            else
+                kick_tangent_general(i0, i1, u, q, cn, s, kap, h, ham);
+        }
+        done = d1;
+    }
+    /* the end particles, as kick_homogeneous_body / kick_general_body */
+    if (model == FPL_MODEL_HOMOGENEOUS) {
+        const double d0 = x[0], d1 = x[1] - x[0];
+        const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
+        const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
+        const double k0 = KAP_H(d0), k1 = KAP_H(d1), km = KAP_H(dm), kn = KAP_H(dn);
+        FPL_KICK_UNIT(p[0], h, phi1, phi0);
+        FPL_KICK_UNIT(p[n - 1], h, phin, phim);
+        for (int m = 1; m <= n_dev; m++) {
+            double *u = y + stride * (size_t)m;
+            kick_tangent_ends(n, u, u + n, k0, k1, km, kn, h);
+        }
+    } else {
+        const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
+        const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1], Rn = -cn[n - 1] * x[n - 1];
+        const double R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+        const double phi0 = PHI_G(L0, R0), phi1 = PHI_G(L_IN(x, 1), R1);
+        const double phim = PHI_G(L_IN(x, n - 1), Rm), phin = PHI_G(Ln, Rn);
+        const double k0 = KAP_G(R0), k1 = KAP_G(R1), km = KAP_G(Rm), kn = KAP_G(Rn);
+        KICK_G(p[0], 0, phi1, phi0);
+        KICK_G(p[n - 1], n - 1, phin, phim);
+        for (int m = 1; m <= n_dev; m++) {
+            double *u = y + stride * (size_t)m;
+            kick_tangent_ends_general(n, u, u + n, cn, s, k0, k1, km, kn, h, ham);
+        }
+    }
+}
+
+/* n steps with fused stages and n_dev >= 3 vectors (N >= 3). */
+FPL_INLINE void steps_fused_many_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                      double *y, double dt, long nsteps, const int model,
+                                      const int cubic)
+{
+    const int st = scheme->n_kicks, n = c->lat->n;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    const size_t stride = 2 * (size_t)n;
+    for (long k = 0; k < nsteps; k++) {
+        for (int i = 0; i < st; i++) {
+            if (i == 0 && k > 0)
+                stage_fused_many(c, y, da[st] * dt, da[0] * dt, kb[0] * dt, model, cubic, 1);
+            else
+                stage_fused_many(c, y, 0.0, da[i] * dt, kb[i] * dt, model, cubic, 0);
+        }
+    }
+    if (nsteps > 0)
+        for (int m = 0; m <= c->n_dev; m++)
+            drift_range(0, n, y + stride * (size_t)m, y + stride * (size_t)m + n, c->lat->minv,
+                        0.0, da[st] * dt, ham, 0);
+}
+
+/* ---- many deviation vectors on long chains: sweeps of many stages, chain block by block ---- */
+
+/* stage_fused_many still streams the whole state (the orbit and every vector, 29 MB at
+ * N = 262 144 with 6 vectors) through the cache once per stage. A sweep takes up to
+ * FPL_SWEEP_STAGES stages (several steps) in one pass: the chain in blocks of FPL_SWEEP_BLOCK
+ * particles [lo, hi), and in block b stage s drifts [lo - s, hi - s) and kicks [lo - s - 1,
+ * hi - s - 1) (clipped to the chain; the last block reaches the right wall at every stage).
+ * The drift runs one particle ahead of the kick on the right (the kick of hi - s - 2 reads
+ * x_{hi-s-1}), and each stage one particle further left, so that a particle's stage-s drift
+ * follows its stage-(s-1) kick. Only the first particle kicked, lo - s - 1, needs a neighbour
+ * the previous block has already moved on: its left bond's term at stage s, formed by the
+ * previous block as the right bond of its last kicked particle, is carried over (work->
+ * sweep_carry; the wall bond at the left end). The orbit runs the block's stages first, keeping
+ * the kappa of every bond of every stage (work->sweep_rows, FPL_SWEEP_STAGES x 546 doubles,
+ * in L1/L2); then each vector runs them on its block (8 kB, in L1 throughout) with those
+ * kappas: each bond's kappa is formed once per stage and reused by every vector, and the state
+ * is streamed once per sweep. Every element gets the operations of the stage-by-stage order in
+ * that order, and a bond term formed once (carried) has the bits it has formed twice:
+ * bit-identical. The interior of a block's kick is the stage-by-stage kernels' loops on the
+ * block's arrays (shifted so that index 0 is the first particle kicked). */
+
+typedef struct {
+    double hd0, hd, hk;   /* the previous step's last drift (if pre), this stage's drift, kick */
+    int pre;
+} sweep_stage;
+
+/* The drift range and kick range of block [lo, hi) at stage s (n: the chain). */
+FPL_INLINE void sweep_ranges(int n, int lo, int hi, int s, int *dlo, int *dhi, int *klo, int *khi)
+{
+    *dlo = lo - s > 0 ? lo - s : 0;
+    *dhi = hi == n ? n : hi - s;
+    *klo = lo - s - 1 > 0 ? lo - s - 1 : 0;
+    *khi = hi == n ? n : hi - s - 1;
+}
+
+FPL_INLINE void sweep_drift(int lo, int hi, double *x, const double *p, const double *minv,
+                            const sweep_stage *g, const int ham)
+{
+    if (g->pre) drift_range(lo, hi, x, p, minv, g->hd0, g->hd, ham, 1);
+    else drift_range(lo, hi, x, p, minv, 0.0, g->hd, ham, 0);
+}
+
+/* The orbit's stages on block [lo, hi): kicks, kappa of bonds klo..khi into row s (kr[j - klo]),
+ * the right bond's phi and kappa of the last particle kicked into carry[2s], carry[2s+1]. */
+FPL_INLINE void sweep_orbit_block(const fpl_lattice *lat, double *y, const sweep_stage *stg,
+                                  int S, int lo, int hi, double *rows, double *carry,
+                                  const int model, const int cubic)
+{
+    const int n = lat->n;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double a = lat->alpha, b = lat->beta;
+    const double *restrict cn = lat->cn, *restrict s = lat->s, *restrict minv = lat->minv;
+    double *x = y, *p = y + n;
+    for (int q = 0; q < S; q++) {
+        int dlo, dhi, klo, khi;
+        sweep_ranges(n, lo, hi, q, &dlo, &dhi, &klo, &khi);
+        const double h = stg[q].hk;
+        double *kr = rows + (size_t)FPL_SWEEP_ROW * q;
+        sweep_drift(dlo, dhi, x, p, minv, &stg[q], ham);
+        /* the first particle: its left bond from the wall or carried, its right bond formed */
+        double phiL, kapL, phiR, kapR;
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            if (klo == 0) {
+                phiL = PHI_H(x[0]);
+                kapL = KAP_H(x[0]);
+            } else {
+                phiL = carry[2 * q];
+                kapL = carry[2 * q + 1];
+            }
+            const double dr = x[klo + 1] - x[klo];
+            phiR = PHI_C(dr);
+            kapR = KAP_C(dr);
+            FPL_KICK_UNIT(p[klo], h, phiR, phiL);
+        } else {
+            if (klo == 0) {
+                const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
+                phiL = PHI_G(L0, R0);
+                kapL = KAP_G(R0);
+            } else {
+                phiL = carry[2 * q];
+                kapL = carry[2 * q + 1];
+            }
+            const double Rr = R_IN(x, klo + 1);
+            phiR = PHI_G(L_IN(x, klo + 1), Rr);
+            kapR = KAP_G(Rr);
+            KICK_G(p[klo], klo, phiR, phiL);
+        }
+        kr[0] = kapL;
+        kr[1] = kapR;
+        /* the interior particles klo+1 .. ihi-1, on arrays shifted by klo */
+        const int ihi = khi == n ? n - 1 : khi, m = ihi - klo;
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            kick_orbit_homogeneous(1, m, x + klo, p + klo, a, b, h, kr, cubic);
+            kr[m] = KAP_C(x[ihi] - x[ihi - 1]);
+        } else {
+            kick_orbit_general(1, m, x + klo, p + klo, cn + klo, s + klo, a, b, h, kr, ham,
+                               cubic);
+        }
+        if (khi == n) {
+            /* particle n-1 and the right wall (as kick_homogeneous_body / kick_general_body) */
+            if (model == FPL_MODEL_HOMOGENEOUS) {
+                const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
+                FPL_KICK_UNIT(p[n - 1], h, PHI_H(dn), PHI_H(dm));
+                kr[n - klo] = KAP_H(dn);
+            } else {
+                const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1];
+                const double Rn = -cn[n - 1] * x[n - 1], Rm = R_IN(x, n - 1);
+                KICK_G(p[n - 1], n - 1, PHI_G(Ln, Rn), PHI_G(L_IN(x, n - 1), Rm));
+                kr[n - klo] = KAP_G(Rn);
+            }
+        } else if (model == FPL_MODEL_HOMOGENEOUS) {
+            const double d = x[khi] - x[khi - 1];
+            carry[2 * q] = PHI_C(d);
+            carry[2 * q + 1] = KAP_C(d);
+        } else {
+            const double R = R_IN(x, khi);
+            carry[2 * q] = PHI_G(L_IN(x, khi), R);
+            carry[2 * q + 1] = KAP_G(R);
+        }
+    }
+}
+
+/* One deviation vector v's stages on block [lo, hi) with the orbit's kappa rows; carry[s]: the
+ * tangent term of the left bond of the first particle kicked at stage s. */
+FPL_INLINE void sweep_vector_block(const fpl_lattice *lat, double *v, const sweep_stage *stg,
+                                   int S, int lo, int hi, const double *rows, double *carry,
+                                   const int model)
+{
+    const int n = lat->n;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double *restrict cn = lat->cn, *restrict s = lat->s, *restrict minv = lat->minv;
+    double *u = v, *q = v + n;
+    for (int g = 0; g < S; g++) {
+        int dlo, dhi, klo, khi;
+        sweep_ranges(n, lo, hi, g, &dlo, &dhi, &klo, &khi);
+        const double h = stg[g].hk;
+        const double *kr = rows + (size_t)FPL_SWEEP_ROW * g;
+        sweep_drift(dlo, dhi, u, q, minv, &stg[g], ham);
+        double tL, tR;
+        if (model == FPL_MODEL_HOMOGENEOUS) {
+            tL = klo == 0 ? kr[0] * u[0] : carry[g];
+            tR = kr[1] * (u[klo + 1] - u[klo]);
+            FPL_KICK_UNIT(q[klo], h, tR, tL);
+        } else {
+            tL = klo == 0 ? FPL_DPHI_LEFT(ham ? cn[0] * u[0] : u[0], kr[0], cn[0], u[0])
+                          : carry[g];
+            tR = DPHI_IN(u, klo + 1, kr[1]);
+            KICK_G(q[klo], klo, tR, tL);
+        }
+        const int ihi = khi == n ? n - 1 : khi, m = ihi - klo;
+        if (model == FPL_MODEL_HOMOGENEOUS)
+            kick_tangent_homogeneous_range(1, m, u + klo, q + klo, kr, h);
+        else
+            kick_tangent_general(1, m, u + klo, q + klo, cn + klo, s + klo, kr, h, ham);
+        if (khi == n) {
+            const double km = kr[n - 1 - klo], kn = kr[n - klo];
+            if (model == FPL_MODEL_HOMOGENEOUS) {
+                const double tm = km * (u[n - 1] - u[n - 2]), tn = -kn * u[n - 1];
+                FPL_KICK_UNIT(q[n - 1], h, tn, tm);
+            } else {
+                const double tm = DPHI_IN(u, n - 1, km);
+                const double tn = FPL_DPHI_RIGHT(ham ? -cn[n - 1] * u[n - 1] : -u[n - 1], kn,
+                                                 cn[n - 1], u[n - 1]);
+                KICK_G(q[n - 1], n - 1, tn, tm);
+            }
+        } else if (model == FPL_MODEL_HOMOGENEOUS) {
+            carry[g] = kr[khi - klo] * (u[khi] - u[khi - 1]);
+        } else {
+            carry[g] = DPHI_IN(u, khi, kr[khi - klo]);
+        }
+    }
+}
+
+/* S stages of the orbit and every vector in one sweep over the chain. */
+FPL_INLINE void sweep_stages(const fpl_lattice_ctx *c, double *y, const sweep_stage *stg, int S,
+                             const int model, const int cubic)
+{
+    const fpl_lattice *lat = c->lat;
+    const int n = lat->n, n_dev = c->n_dev;
+    const size_t stride = 2 * (size_t)n;
+    double *rows = c->work->sweep_rows, *carry = c->work->sweep_carry;
+    for (int lo = 0; lo < n; lo += FPL_SWEEP_BLOCK) {
+        const int hi = n - lo <= FPL_SWEEP_BLOCK ? n : lo + FPL_SWEEP_BLOCK;
+        sweep_orbit_block(lat, y, stg, S, lo, hi, rows, carry, model, cubic);
+        for (int m = 1; m <= n_dev; m++)
+            sweep_vector_block(lat, y + stride * (size_t)m, stg, S, lo, hi, rows,
+                               carry + (size_t)FPL_SWEEP_STAGES * (size_t)(m + 1), model);
+        if (hi == n) break;
+    }
+}
+
+/* n steps in sweeps of whole steps (N > 2 FPL_SWEEP_BLOCK, scheme->n_kicks <= FPL_SWEEP_STAGES,
+ * the sweep scratch reserved for c->n_dev vectors). */
+FPL_INLINE void steps_sweep_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                 double *y, double dt, long nsteps, const int model,
+                                 const int cubic)
+{
+    const int st = scheme->n_kicks, n = c->lat->n;
+    const int ham = model == FPL_MODEL_HAMILTONIAN;
+    const double *da = scheme->drift, *kb = scheme->kick;
+    const size_t stride = 2 * (size_t)n;
+    const long group = FPL_SWEEP_STAGES / st;
+    sweep_stage stg[FPL_SWEEP_STAGES];
+    for (long k0 = 0; k0 < nsteps; k0 += group) {
+        const long g = nsteps - k0 < group ? nsteps - k0 : group;
+        for (long k = 0; k < g; k++)
+            for (int i = 0; i < st; i++)
+                stg[k * st + i] = (sweep_stage){da[st] * dt, da[i] * dt, kb[i] * dt,
+                                                i == 0 && k0 + k > 0};
+        sweep_stages(c, y, stg, (int)g * st, model, cubic);
+    }
+    if (nsteps > 0)
+        for (int m = 0; m <= c->n_dev; m++)
+            drift_range(0, n, y + stride * (size_t)m, y + stride * (size_t)m + n, c->lat->minv,
+                        0.0, da[st] * dt, ham, 0);
+}
+
+static int steps_sweep_applies(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
+{
+    return c->lat->n > 2 * FPL_SWEEP_BLOCK && c->n_dev >= 1 &&
+           scheme->n_kicks <= FPL_SWEEP_STAGES && c->work->sweep_rows && c->work->sweep_carry &&
+           c->work->sweep_dev >= c->n_dev;
+}
+
+/* One out-of-line function per model and beta (see FPL_HOT_APART below). */
+#define FPL_HOT_APART_MANY FPL_HOT __attribute__((noinline))
+#define STEPS_FUSED_MANY(name, model, cubic)                                                     \
+    FPL_HOT_APART_MANY static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,  \
+                                        double *y, double dt, long nsteps)                      \
+    {                                                                                            \
+        if (steps_sweep_applies(scheme, c))                                                      \
+            steps_sweep_body(scheme, c, y, dt, nsteps, model, cubic);                            \
+        else                                                                                     \
+            steps_fused_many_body(scheme, c, y, dt, nsteps, model, cubic);                       \
+    }
+STEPS_FUSED_MANY(steps_fused_many_homogeneous_quad, FPL_MODEL_HOMOGENEOUS, 0)
+STEPS_FUSED_MANY(steps_fused_many_homogeneous_cubic, FPL_MODEL_HOMOGENEOUS, 1)
+STEPS_FUSED_MANY(steps_fused_many_hamiltonian_quad, FPL_MODEL_HAMILTONIAN, 0)
+STEPS_FUSED_MANY(steps_fused_many_hamiltonian_cubic, FPL_MODEL_HAMILTONIAN, 1)
+STEPS_FUSED_MANY(steps_fused_many_nonlinear_quad, FPL_MODEL_NONLINEAR, 0)
+STEPS_FUSED_MANY(steps_fused_many_nonlinear_cubic, FPL_MODEL_NONLINEAR, 1)
+
+/* Whether the long-chain steps apply: 3 or more vectors on a chain the vector-inner tiles do not
+ * serve (those and the vector-by-vector step are tried first), the sweep if its scratch is there,
+ * else the stage-fused pass; 1 or 2 vectors only where the sweep serves them (fpl_sweep_serves),
+ * else the stage_fused pass of steps_fused. */
+static int steps_fused_many_applies(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
+{
+    if (c->lat->n <= FPL_VEC_INNER_MAX_N) return 0;
+    if (c->n_dev >= FPL_VEC_INNER_MIN_DEV) return 1;
+    return fpl_sweep_serves(c->lat->n, c->n_dev) && steps_sweep_applies(scheme, c);
+}
+
+/* The long-chain many-vector steps where they apply (returns 0 otherwise). */
+static int steps_fused_many(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
+                            double dt, long nsteps, const int model)
+{
+    if (!steps_fused_many_applies(scheme, c)) return 0;
+    const int cubic = c->lat->beta != 0.0;
+    if (model == FPL_MODEL_HOMOGENEOUS)
+        (cubic ? steps_fused_many_homogeneous_cubic : steps_fused_many_homogeneous_quad)(
+            scheme, c, y, dt, nsteps);
+    else if (model == FPL_MODEL_HAMILTONIAN)
+        (cubic ? steps_fused_many_hamiltonian_cubic : steps_fused_many_hamiltonian_quad)(
+            scheme, c, y, dt, nsteps);
+    else
+        (cubic ? steps_fused_many_nonlinear_cubic : steps_fused_many_nonlinear_quad)(
+            scheme, c, y, dt, nsteps);
+    return 1;
+}
+
 /* The steppers with 0, 1 or 2 deviation vectors (stages fused) or too many or too long a chain
  * for the many-vector steps (stage by stage), one out-of-line function per model and beta. noinline: inlined into
  * steps_<model> beside the many-vector steppers, the kick loop lost its registers to that
@@ -1169,6 +1549,8 @@ FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, do
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0))
         return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
+        return;
     if (c->lat->beta == 0.0)
         steps_few_homogeneous_quad(scheme, c, y, dt, nsteps);
     else
@@ -1181,6 +1563,8 @@ FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, do
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0))
         return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
+        return;
     if (c->lat->beta == 0.0)
         steps_few_hamiltonian_quad(scheme, c, y, dt, nsteps);
     else
@@ -1192,6 +1576,8 @@ FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, doub
 {
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0))
+        return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
         return;
     if (c->lat->beta == 0.0)
         steps_few_nonlinear_quad(scheme, c, y, dt, nsteps);

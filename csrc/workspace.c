@@ -38,6 +38,23 @@ int fpl_work_create(int n, int modes, fpl_work **out)
 int fpl_work_reserve_vectors(fpl_work *w, int n_dev)
 {
     const int n = w->n;
+    if (fpl_sweep_serves(n, n_dev)) {
+        /* the long-chain sweep: its kappa rows and the carried bond terms of n_dev vectors */
+        if (!w->sweep_rows)
+            w->sweep_rows = malloc(sizeof(double) * FPL_SWEEP_STAGES * FPL_SWEEP_ROW);
+        if (w->sweep_rows && w->sweep_dev < n_dev) {
+            double *c = realloc(w->sweep_carry,
+                                sizeof(double) * FPL_SWEEP_STAGES * (2 + (size_t)n_dev));
+            if (c) {
+                w->sweep_carry = c;
+                w->sweep_dev = n_dev;
+            }
+        }
+        if (!w->sweep_rows || w->sweep_dev < n_dev)
+            return fpl_error(NULL, FPL_ERR_NOMEM, "out of memory sizing a workspace for %d "
+                             "deviation vectors", n_dev);
+        return FPL_OK;
+    }
     if (n < 3 || n > FPL_VEC_INNER_MAX_N || n_dev < FPL_VEC_INNER_MIN_DEV) return FPL_OK;
     const size_t rows_n = (size_t)n + 1;
     /* as many kicks' kappa as fit in FPL_KAPPA_GROUP_DOUBLES: the tiles' transposes are paid
@@ -75,6 +92,8 @@ void fpl_work_free(fpl_work **work)
     free(w->ek);
     free(w->kappa_stages);
     free(w->tile);
+    free(w->sweep_rows);
+    free(w->sweep_carry);
     fpl_rdft_free(&w->rdft);
     free(w);
     *work = NULL;

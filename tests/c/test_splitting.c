@@ -759,6 +759,143 @@ static void test_many_vectors(void)
            "bit for bit, = generic within %.1e\n", cases, worst);
 }
 
+/* Many deviation vectors on long fixed chains (N > 1024, issue 22): the sweeps of up to 32
+ * stages, chain block by block (512 particles; each stage's drift and kick regions one particle
+ * further left, the left bond's term carried from the previous block), and without the sweep's
+ * scratch the stage-by-stage fused pass (stage_fused_many). The stepper (fpl_splitting_advance)
+ * against one call per stage of the model's drift and kick, bit for bit, and against the generic
+ * one-shot evaluations of reference_steps to round-off; models 1-3, beta = 0 and 0.3, k = 3 and
+ * 9, N = 1025 (a last block of one particle), 1536 (three full blocks) and 2100; Yoshida 4 over
+ * 23 steps (sweeps of 10, 10 and 1 step, then a second call of 2: the last drift of a call is
+ * not merged into the next), SRKN14a6 over 9 (sweeps of 2 steps and 1), leapfrog over 40 (32 + 6,
+ * then 2). */
+static void test_long_chain_many_vectors(void)
+{
+    enum { NMAX = 2100, KMAX = 9, LMAX = 2 * NMAX * (KMAX + 1) };
+    static const int sizes[] = {1025, 1536, 2100}, devs[] = {3, 9};
+    static const char *const names[] = {"yoshida4", "srkn14a6", "leapfrog"};
+    static const long nsteps[] = {23, 9, 40};
+    static double v[NMAX], ya[LMAX], yb[LMAX], yc[LMAX], f[NMAX], dx[NMAX * KMAX],
+        df[NMAX * KMAX], phi[NMAX + 1], kap[NMAX + 1], dphi[NMAX + 1];
+    for (int i = 0; i < NMAX; i++) v[i] = 1.0 + 0.4 * sin(1.3 * i + 0.2 * (i * i % 7));
+    double worst = 0.0;
+    int cases = 0;
+    for (int model = 1; model <= 3; model++)
+        for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++)
+            for (int ib = 0; ib < 2; ib++)
+                for (int id = 0; id < 2; id++) {
+                    const int n = sizes[in], k = devs[id], is = (int)((in + ib + id + model) % 3);
+                    const long len = 2L * n * (k + 1), steps = nsteps[is];
+                    const double dt = 0.02;
+                    const fpl_splitting *sc = scheme(names[is]);
+                    fpl_lattice *lat = NULL;
+                    CHECK_OK(fpl_lattice_create(n, 0.25, 0.3 * ib, model,
+                                                model == FPL_MODEL_HOMOGENEOUS ? NULL : v, &lat));
+                    if (!lat || !sc) return;
+                    for (long i = 0; i < len; i++)
+                        ya[i] = 0.3 * sin(0.7 * (double)i + 0.3 * (double)(i * i % 11));
+                    memcpy(yb, ya, sizeof(double) * (size_t)len);
+                    memcpy(yc, ya, sizeof(double) * (size_t)len);
+                    CHECK_OK(fpl_splitting_advance(sc, lat, ya, k, dt, steps - 2));
+                    CHECK_OK(fpl_splitting_advance(sc, lat, ya, k, dt, 2));
+                    fpl_work w = {.n = n, .phi = phi, .kappa = kap, .dphi = dphi};
+                    fpl_lattice_ctx ctx = {lat, &w, k};
+                    for (long st = 0; st < steps; st++) {
+                        for (int i = 0; i < sc->n_kicks; i++) {
+                            lat->ops->drift(&ctx, yc, i, sc->drift[i] * dt);
+                            lat->ops->kick(&ctx, yc, sc->kick[i] * dt);
+                        }
+                        lat->ops->drift(&ctx, yc, sc->n_kicks, sc->drift[sc->n_kicks] * dt);
+                    }
+                    CHECK(memcmp(ya, yc, sizeof(double) * (size_t)len) == 0,
+                          "model %d %s N=%d beta=%g k=%d: the long-chain sweep differs from the "
+                          "per-stage drift and kick", model, sc->name, n, 0.3 * ib, k);
+                    /* the stepper without the sweep's scratch: the stage-by-stage fused pass */
+                    memcpy(yb, yc, sizeof(double) * (size_t)len);
+                    memcpy(yc, ya, sizeof(double) * (size_t)len);
+                    lat->ops->steps(sc, &ctx, yc, dt, 3);
+                    for (long st = 0; st < 3; st++) {
+                        for (int i = 0; i < sc->n_kicks; i++) {
+                            lat->ops->drift(&ctx, ya, i, sc->drift[i] * dt);
+                            lat->ops->kick(&ctx, ya, sc->kick[i] * dt);
+                        }
+                        lat->ops->drift(&ctx, ya, sc->n_kicks, sc->drift[sc->n_kicks] * dt);
+                    }
+                    CHECK(memcmp(ya, yc, sizeof(double) * (size_t)len) == 0,
+                          "model %d %s N=%d beta=%g k=%d: the stage-fused many-vector step "
+                          "differs from the per-stage drift and kick", model, sc->name, n,
+                          0.3 * ib, k);
+                    /* the generic kernels from the same start, to round-off */
+                    for (long i = 0; i < len; i++)
+                        yc[i] = 0.3 * sin(0.7 * (double)i + 0.3 * (double)(i * i % 11));
+                    reference_steps(sc, lat, yc, k, dt, steps, f, dx, df);
+                    for (long i = 0; i < len; i++) {
+                        double d = fabs(yb[i] - yc[i]) / (1.0 + fabs(yc[i]));
+                        if (d > worst) worst = d;
+                    }
+                    cases++;
+                    fpl_lattice_free(&lat);
+                }
+    CHECK(worst < 1e-11, "long chains, many vectors: the fused kernels differ from the generic "
+          "ones by %.2e", worst);
+    printf("many vectors on long chains (N = 1025-2100, k = 3, 9), models 1-3: %d cases, sweep "
+           "and stage-fused step = per-stage bit for bit, = generic within %.1e\n", cases, worst);
+}
+
+/* One and two deviation vectors on chains whose state exceeds 10 MiB take the sweep too (issue
+ * 22): N = 218 454 with 2 vectors (the first N it serves) and 327 681 with 1, models 1-3, against
+ * one call per stage of the model's drift and kick, bit for bit (Yoshida 4, 12 steps in two
+ * calls: a full sweep of 10 steps, then one of 2). */
+static void test_long_chain_few_vectors(void)
+{
+    static const int sizes[] = {218454, 327681}, devs[] = {2, 1};
+    const int nmax = 327681;
+    double *v = malloc(sizeof(double) * nmax), *ya = malloc(sizeof(double) * 6 * 218454);
+    double *yc = malloc(sizeof(double) * 6 * 218454), *phi = malloc(sizeof(double) * (nmax + 1));
+    double *kap = malloc(sizeof(double) * (nmax + 1)), *dphi = malloc(sizeof(double) * (nmax + 1));
+    CHECK(v && ya && yc && phi && kap && dphi, "out of memory");
+    if (!v || !ya || !yc || !phi || !kap || !dphi) return;
+    for (int i = 0; i < nmax; i++) v[i] = 1.0 + 0.4 * sin(1.3 * i + 0.2 * (i * i % 7));
+    const fpl_splitting *sc = scheme("yoshida4");
+    const double dt = 0.02;
+    int cases = 0;
+    for (int model = 1; model <= 3; model++)
+        for (int in = 0; in < 2; in++) {
+            const int n = sizes[in], k = devs[in];
+            const long len = 2L * n * (k + 1);
+            fpl_lattice *lat = NULL;
+            CHECK_OK(fpl_lattice_create(n, 0.25, model == 2 ? 0.0 : 0.3, model,
+                                        model == FPL_MODEL_HOMOGENEOUS ? NULL : v, &lat));
+            if (!lat || !sc) break;
+            for (long i = 0; i < len; i++)
+                ya[i] = yc[i] = 0.3 * sin(0.7 * (double)i + 0.3 * (double)(i * i % 11));
+            CHECK_OK(fpl_splitting_advance(sc, lat, ya, k, dt, 10));
+            CHECK_OK(fpl_splitting_advance(sc, lat, ya, k, dt, 2));
+            fpl_work w = {.n = n, .phi = phi, .kappa = kap, .dphi = dphi};
+            fpl_lattice_ctx ctx = {lat, &w, k};
+            for (long st = 0; st < 12; st++) {
+                for (int i = 0; i < sc->n_kicks; i++) {
+                    lat->ops->drift(&ctx, yc, i, sc->drift[i] * dt);
+                    lat->ops->kick(&ctx, yc, sc->kick[i] * dt);
+                }
+                lat->ops->drift(&ctx, yc, sc->n_kicks, sc->drift[sc->n_kicks] * dt);
+            }
+            CHECK(memcmp(ya, yc, sizeof(double) * (size_t)len) == 0,
+                  "model %d N=%d k=%d: the sweep differs from the per-stage drift and kick",
+                  model, n, k);
+            cases++;
+            fpl_lattice_free(&lat);
+        }
+    printf("one and two vectors on chains over 10 MiB (the sweep), models 1-3: %d cases, = "
+           "per-stage bit for bit\n", cases);
+    free(v);
+    free(ya);
+    free(yc);
+    free(phi);
+    free(kap);
+    free(dphi);
+}
+
 int main(void)
 {
     test_tables();
@@ -791,6 +928,8 @@ int main(void)
     test_homogeneous_kernels();
     test_model_kernels();
     test_many_vectors();
+    test_long_chain_many_vectors();
+    test_long_chain_few_vectors();
     test_rkn_tables();
     return check_report("splitting");
 }
