@@ -8,13 +8,7 @@
 #include "internal.h"
 
 /* The Toda bond: V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2), V'(r) = expm1(2 alpha r)/(2
- * alpha), V''(r) = e^{2 alpha r}. expm1 keeps V' accurate to round-off at small stretches (where
- * e^u - 1 would lose the digits the harmonic limit lives on). */
-static inline double fpl_toda_force(double r, double alpha, double inv_2alpha)
-{
-    return expm1(2.0 * alpha * r) * inv_2alpha;
-}
-
+ * alpha), V''(r) = e^{2 alpha r}, expm1 being fpl_expm1 (fpl_expm1.h) on every path. */
 /* V(r), with its Taylor series for |2 alpha r| < 0.1, where expm1(u) - u cancels. */
 double fpl_toda_bond_energy(double r, double alpha);
 
