@@ -44,5 +44,10 @@ void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, double *y,
 void fpl_toda_coefficients(double v, double *cl, double *cn, double *s, double *minv);
 void fpl_toda_kick_fixed(void *ctx, double *y, double h);
 void fpl_toda_kick_periodic(void *ctx, double *y, double h);
+/* The fused steppers (fpl_split_system.steps): n steps, bit-identical to the kicks above. */
+void fpl_toda_steps_fixed(const fpl_splitting *scheme, void *ctx, double *y, double dt,
+                          long nsteps);
+void fpl_toda_steps_periodic(const fpl_splitting *scheme, void *ctx, double *y, double dt,
+                             long nsteps);
 
 #endif
