@@ -5,19 +5,20 @@
  * vectors of chaos_batch.c (fpl_expm1_v4, GCC generic vectors), so a lane and a single orbit
  * agree to the last bit. Max error < 1 ulp against long-double expm1l (tests/c/test_expm1.c).
  *
- * Algorithm. Clamp x to [-45, 710] with comparisons that keep NaN (blow-up detection relies on
- * non-finite values propagating): below -45, e^x - 1 rounds to -1; above 710 the result
- * overflows (log DBL_MAX = 709.78). k = round(x / ln 2) by the shifter trick (x / ln2 + 1.5 2^52
- * rounds to an integer whose low mantissa bits are k), r = x - k ln2 by Cody-Waite (ln2_hi has
- * 21 trailing zero bits, so k ln2_hi and x - k ln2_hi are exact), c the rounding error of r.
+ * Algorithm. Clamp x to [-45, 710] (below -45, e^x - 1 rounds to -1; above 710 it overflows,
+ * log DBL_MAX = 709.78). k = round(x / ln 2) by the shifter trick (x / ln2 + 1.5 2^52 rounds to
+ * an integer whose low mantissa bits are k), r = x - k ln2 by Cody-Waite (ln2_hi has 21 trailing
+ * zero bits, so k ln2_hi and x - k ln2_hi are exact), c the rounding error of r.
  * e^(r + c) - 1 = r + t, t = r^2/2 + r^3 q(r) + c (1 + r), q the Taylor series of
- * (e^r - 1 - r - r^2/2)/r^3 to r^11 (remainder < 1e-19 relative on |r| <= ln2/2), r^2/2 formed
- * as rh^2/2 (exact: Veltkamp's split r = rh + rl, rh of 26 bits) plus the rest. Then
- * e^x - 1 = s2 (s1 (1 + r + t) - 1/s2) with s1 s2 = 2^k, s2 = 2 for k > 0 (s1 = 2^(k-1):
- * 2^1024 is not a double) and 1 otherwise (k = 0: s1 = s2 = 1 and the result is r + t = x + t,
- * exact for tiny and subnormal x). The leading sum (s1 - 1/s2) + s1 r is formed with its
- * rounding errors (TwoSum), so that where the result is small next to s1 (k = 1, x just above
- * ln2/2) only the final rounding and t's small error remain: measured max 0.74 ulp. -0 gives +0.
+ * (e^r - 1 - r - r^2/2)/r^3 to r^10 (its truncation < 0.1 ulp of the result on |r| <= ln2/2),
+ * r^2/2 formed as rh^2/2 (exact: Veltkamp's split r = rh + rl, rh of 26 bits) plus the rest.
+ * Then e^x - 1 = 2 (s (1 + r + t) - 1/2) with s = 2^(k-1) built from k's bits (the factor 2 is
+ * exact and keeps 2^1024 out at the overflow edge), the leading sum (s - 1/2) + s r formed with
+ * its rounding errors (TwoSum), so that where the result is small next to s (k = 1, x just above
+ * ln2/2) only the final rounding and t's small error remain: measured max 0.77 ulp. For
+ * |x| < 2^-54 (where the halved scale would round subnormals) and NaN the result is x itself:
+ * e^x - 1 rounds to x there, -0 stays -0, and NaN propagates (blow-up detection relies on
+ * non-finite values). Branch-free: the clamps compile to min/max, the last select to a blend.
  * The exact steps (Veltkamp, TwoSum) need a product and a sum rounded separately: compile
  * without FMA contraction (-ffp-contract=off, ISO C's default, as the library is built). */
 #ifndef FPUTLAB_FPL_EXPM1_H
@@ -31,21 +32,21 @@
 #define FPL_EXPM1_LN2_HI 0x1.62e42feep-1         /* 6.93147180369123816490e-01 (fdlibm) */
 #define FPL_EXPM1_LN2_LO 0x1.a39ef35793c76p-33   /* 1.90821492927058770002e-10 */
 
-/* The arithmetic, for a type T with the helpers SEL_GT(a, b, u, v) = a > b ? u : v (elementwise)
- * and HALF_SCALE(kd) = 2^(k-1) from the shifted k's bits ((bits(kd) + 1022) << 52: the shifter's
+/* The arithmetic, for a type T with the helpers SEL(c, u, v) = c ? u : v (elementwise) and
+ * HALF_SCALE(kd) = 2^(k-1) from the shifted k's bits ((bits(kd) + 1022) << 52: the shifter's
  * low 12 bits are 0, the shift drops its high ones; k + 1022 is in [957, 2046], a normal
  * exponent). `out` receives the result. */
-#define FPL_EXPM1_BODY(T, x, out, SEL_GT, HALF_SCALE)                                            \
+#define FPL_EXPM1_BODY(T, x, out, SEL, HALF_SCALE)                                               \
     do {                                                                                         \
-        T xc_ = SEL_GT(x, 710.0, 710.0, x);                                                      \
-        xc_ = SEL_GT(-45.0, xc_, -45.0, xc_);                                                    \
+        /* x < 710 ? x : 710 (NaN -> 710: the last line restores it), then x > -45 ? x : -45 */   \
+        T xc_ = SEL((x) < 710.0, x, 710.0);                                                      \
+        xc_ = SEL(xc_ > -45.0, xc_, -45.0);                                                      \
         const T kd_ = xc_ * FPL_EXPM1_INV_LN2 + FPL_EXPM1_SHIFTER;                               \
         const T kf_ = kd_ - FPL_EXPM1_SHIFTER;                                                   \
         const T hi_ = xc_ - kf_ * FPL_EXPM1_LN2_HI, lo_ = kf_ * FPL_EXPM1_LN2_LO;                \
         const T r_ = hi_ - lo_, c_ = (hi_ - r_) - lo_;                                           \
-        /* q = (e^r - 1 - r - r^2/2) / r^3 to r^11 (Taylor, 1/3! ... 1/14!) */                   \
-        T q_ = 1.0 / 87178291200.0 * r_ + 1.0 / 6227020800.0;                                    \
-        q_ = q_ * r_ + 1.0 / 479001600.0;                                                        \
+        /* q = (e^r - 1 - r - r^2/2) / r^3 to r^10 (Taylor, 1/3! ... 1/13!) */                   \
+        T q_ = 1.0 / 6227020800.0 * r_ + 1.0 / 479001600.0;                                      \
         q_ = q_ * r_ + 1.0 / 39916800.0;                                                         \
         q_ = q_ * r_ + 1.0 / 3628800.0;                                                          \
         q_ = q_ * r_ + 1.0 / 362880.0;                                                           \
@@ -60,19 +61,22 @@
         const T sp_ = r_ * 134217729.0, rh_ = sp_ - (sp_ - r_), rl_ = r_ - rh_;                  \
         const T th_ = 0.5 * rh_ * rh_;                                                           \
         const T tl_ = (rl_ * (rh_ + 0.5 * rl_) + (r_ * r_) * (r_ * q_)) + c_ * (1.0 + r_);       \
-        const T half_ = HALF_SCALE(kd_);                                                         \
-        const T s1_ = half_ * SEL_GT(kf_, 0.0, 1.0, 2.0);                                        \
-        const T s2_ = SEL_GT(kf_, 0.0, 2.0, 1.0);                                                \
-        const T a0_ = SEL_GT(kf_, 0.0, 0.5, 1.0);                                                \
-        const T a_ = s1_ - a0_, ea_ = (s1_ - a_) - a0_;                                          \
-        const T b_ = s1_ * r_;                                                                   \
+        /* e^x - 1 = 2 (s (1 + r + t) - 1/2), s = 2^(k-1); the sum (s - 1/2) + s r with its    \
+         * rounding errors */                                                                    \
+        const T s_ = HALF_SCALE(kd_);                                                            \
+        const T a_ = s_ - 0.5, ea_ = (s_ - a_) - 0.5;                                            \
+        const T b_ = s_ * r_;                                                                    \
         const T sum_ = a_ + b_, bb_ = sum_ - a_;                                                 \
         const T err_ = (a_ - (sum_ - bb_)) + (b_ - bb_);                                         \
-        (out) = s2_ * (sum_ + (((err_ + ea_) + s1_ * tl_) + s1_ * th_));                         \
+        const T y_ = 2.0 * (sum_ + (((err_ + ea_) + s_ * tl_) + s_ * th_));                      \
+        /* |x| < 2^-54 (x^2 < 2^-108): e^x - 1 rounds to x (also -0 and subnormals, which the    \
+         * halved scale would round); NaN: x */                                                  \
+        (out) = SEL((x) * (x) >= 0x1p-108, y_, x);                                               \
     } while (0)
 
-/* Scalar form: the selects are conditional expressions (compiled to compare-and-blend). */
-#define FPL_EXPM1_SEL_D(a, b, u, v) ((a) > (b) ? (u) : (v))
+/* Scalar form: the selects are conditional expressions (compiled to compare-and-blend, the
+ * clamps to min/max). */
+#define FPL_EXPM1_SEL_D(c, u, v) ((c) ? (u) : (v))
 
 static inline double fpl_expm1_half_scale(double kd)
 {
@@ -100,9 +104,8 @@ typedef uint64_t fpl_v4u __attribute__((vector_size(4 * sizeof(uint64_t))));
  * AVX vectors). FPL_V4 puts a constant in all four lanes and leaves a vector as it is (z * 1 is
  * exact: -0, inf and NaN stay). */
 #define FPL_V4(z) ((z) * (fpl_v4d){1.0, 1.0, 1.0, 1.0})
-#define FPL_EXPM1_SEL_V4(a, b, u, v)                                                             \
-    ((fpl_v4d)(((fpl_v4u)FPL_V4(u) & (fpl_v4u)(FPL_V4(a) > FPL_V4(b))) |                         \
-               ((fpl_v4u)FPL_V4(v) & ~(fpl_v4u)(FPL_V4(a) > FPL_V4(b)))))
+#define FPL_EXPM1_SEL_V4(c, u, v)                                                                \
+    ((fpl_v4d)(((fpl_v4u)FPL_V4(u) & (fpl_v4u)(c)) | ((fpl_v4u)FPL_V4(v) & ~(fpl_v4u)(c))))
 #define FPL_EXPM1_HALF_SCALE_V4(kd) ((fpl_v4d)(((fpl_v4u)(kd) + 1022u) << 52))
 
 /* *y = e^x - 1 lane by lane (through pointers: no vector crosses a function boundary). */

@@ -93,7 +93,8 @@ int main(void)
         probe(tiny[i]);
         probe(-tiny[i]);
     }
-    CHECK(fpl_expm1(0.0) == 0.0, "expm1(0) = %a", fpl_expm1(0.0));
+    CHECK(fpl_expm1(0.0) == 0.0 && !signbit(fpl_expm1(0.0)) && signbit(fpl_expm1(-0.0)),
+          "expm1(+-0) = %a, %a", fpl_expm1(0.0), fpl_expm1(-0.0));
     /* large negative: -> -1 (exactly -1 once e^x < 2^-54) */
     for (double x = -30.0; x >= -800.0; x -= 0.37) probe(x);
     CHECK(fpl_expm1(-40.0) == -1.0 && fpl_expm1(-1e300) == -1.0 && fpl_expm1(-INFINITY) == -1.0,
