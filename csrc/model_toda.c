@@ -95,9 +95,9 @@ FPL_HOT void fpl_toda_kick_periodic(void *ctx, double *y, double h)
  * pass (x += h_s p, then x += h_0 p). A block's bond terms (phi, kappa, the vectors' dphi: at
  * most TODA_BLOCK + 1 entries of the scratch arrays, which stay in L1) are formed once per bond
  * with toda_bonds' expressions, and the momenta kicked from them as add_divergence_unit does.
- * The blocks cover particles 1..N-1 (the last one ends at bond N, the wall or, on a ring, the
- * wrap-around bond 0); particle 0, whose bond 0 on a ring needs x_{N-1} drifted, is kicked after
- * the last block. Every element gets the operations of fpl_split_step on fpl_drift_unit_mass /
+ * The blocks cover the interior particles 1..N-2 (interior bonds only); particles 0 and N-1
+ * (whose bond 0, on a ring, needs x_{N-1} drifted) are kicked after the last block, their four
+ * bonds' expm1 in one four-lane call (at N = 64 three scalar calls a kick cost ~20 %). Every element gets the operations of fpl_split_step on fpl_drift_unit_mass /
  * fpl_toda_kick_*, in that order: bit-identical (tests/c/test_splitting.c). Any N >= 2 and any
  * number of deviation vectors. */
 #define TODA_BLOCK 256
@@ -148,38 +148,43 @@ FPL_INLINE void toda_stage(const fpl_lattice_ctx *c, double *y, double hd0, doub
     double *restrict dphi = c->work->dphi;
     double *x = y, *p = y + n;
     int done = 0;   /* particles [0, done) drifted */
-    for (int i0 = 1; i0 < n; i0 += TODA_BLOCK) {
-        const int i1 = i0 + TODA_BLOCK < n ? i0 + TODA_BLOCK : n;
-        const int d1 = i1 == n ? n : i1 + 1;
+    for (int i0 = 1; i0 < n - 1; i0 += TODA_BLOCK) {
+        const int i1 = i0 + TODA_BLOCK < n - 1 ? i0 + TODA_BLOCK : n - 1;
+        const int d1 = i1 == n - 1 ? n : i1 + 1;
         for (int m = 0; m <= n_dev; m++)
             toda_drift_range(done, d1, y + stride * (size_t)m, y + stride * (size_t)m + n, hd0,
                              hd, pre);
         done = d1;
-        /* bonds i0..i1 at phi[0..i1-i0]: interior ones, then bond N in the last block */
-        const int cnt = i1 - i0, inner = i1 == n ? cnt : cnt + 1;
-        toda_block_bonds(inner, x + i0, two_a, inv_2a, phi, kap, tangent);
-        if (i1 == n) {
-            const double m = FPL_TODA_M(ring ? x[0] - x[n - 1] : -x[n - 1], two_a);
-            phi[cnt] = FPL_TODA_PHI(m, inv_2a);
-            if (tangent) kap[cnt] = FPL_TODA_KAPPA(m);
-        }
+        /* bonds i0..i1 (all interior) at phi[0..i1-i0] */
+        const int cnt = i1 - i0;
+        toda_block_bonds(cnt + 1, x + i0, two_a, inv_2a, phi, kap, tangent);
         toda_block_kick(cnt, p + i0, phi, hk);
         for (int m = 1; m <= n_dev; m++) {
             const double *u = y + stride * (size_t)m;
-            toda_block_tangent(inner, u + i0, kap, dphi);
-            if (i1 == n) dphi[cnt] = kap[cnt] * (ring ? u[0] - u[n - 1] : -u[n - 1]);
+            toda_block_tangent(cnt + 1, u + i0, kap, dphi);
             toda_block_kick(cnt, (double *)u + n + i0, dphi, hk);
         }
     }
-    /* particle 0: bonds 0 and 1 */
-    const double m0 = FPL_TODA_M(ring ? x[0] - x[n - 1] : x[0], two_a);
-    const double m1 = FPL_TODA_M(x[1] - x[0], two_a);
-    FPL_KICK_UNIT(p[0], hk, FPL_TODA_PHI(m1, inv_2a), FPL_TODA_PHI(m0, inv_2a));
+    for (int m = 0; m <= n_dev && done < n; m++)   /* N = 2: no interior particle */
+        toda_drift_range(done, n, y + stride * (size_t)m, y + stride * (size_t)m + n, hd0, hd,
+                         pre);
+    /* particles 0 and N-1: bonds 0, 1, N-1 and N (on a ring bond N is bond 0; N = 2: bond N-1
+     * is bond 1), their expm1 four lanes at once (the scalar function's bits) */
+    const fpl_v4d d = {ring ? x[0] - x[n - 1] : x[0], x[1] - x[0], x[n - 1] - x[n - 2],
+                       ring ? x[0] - x[n - 1] : -x[n - 1]};
+    fpl_v4d mv;
+    FPL_TODA_M_V4(mv, d, two_a);
+    FPL_KICK_UNIT(p[0], hk, FPL_TODA_PHI(mv[1], inv_2a), FPL_TODA_PHI(mv[0], inv_2a));
+    FPL_KICK_UNIT(p[n - 1], hk, FPL_TODA_PHI(mv[3], inv_2a), FPL_TODA_PHI(mv[2], inv_2a));
     for (int m = 1; m <= n_dev; m++) {
         const double *u = y + stride * (size_t)m;
-        const double t0 = FPL_TODA_KAPPA(m0) * (ring ? u[0] - u[n - 1] : u[0]);
-        const double t1 = FPL_TODA_KAPPA(m1) * (u[1] - u[0]);
-        FPL_KICK_UNIT(((double *)u)[n], hk, t1, t0);
+        double *q = (double *)u + n;
+        const double t0 = FPL_TODA_KAPPA(mv[0]) * (ring ? u[0] - u[n - 1] : u[0]);
+        const double t1 = FPL_TODA_KAPPA(mv[1]) * (u[1] - u[0]);
+        const double tm = FPL_TODA_KAPPA(mv[2]) * (u[n - 1] - u[n - 2]);
+        const double tn = FPL_TODA_KAPPA(mv[3]) * (ring ? u[0] - u[n - 1] : -u[n - 1]);
+        FPL_KICK_UNIT(q[0], hk, t1, t0);
+        FPL_KICK_UNIT(q[n - 1], hk, tn, tm);
     }
 }
 

@@ -600,7 +600,7 @@ static void test_homogeneous_kernels(void)
  * particle), 17 (a vector-width remainder), 64, 259 (the fused drift-and-kick stage of up to 2
  * vectors in blocks of 256 particles: a last block of one particle) and 600 (three blocks of it,
  * two of the many-vector kick). The Toda lattice (model_toda.c's fused stepper, blocks of 256
- * particles) likewise, with fixed ends and on a ring, N = 2, 3, 17, 64, 257, 258 and 600: fused =
+ * particles) likewise, with fixed ends and on a ring, N = 2, 3, 17, 64, 258, 259 and 600: fused =
  * per-stage bit for bit, = the generic kernels to round-off (they form V'(R) as R + (V'(R) - R)). */
 static void reference_steps(const fpl_splitting *sc, const fpl_lattice *lat, double *y, int k,
                             double dt, long nsteps, double *f, double *dx, double *df)
@@ -628,10 +628,10 @@ static void reference_steps(const fpl_splitting *sc, const fpl_lattice *lat, dou
 static void test_model_kernels(void)
 {
     enum { NMAX = 600, KMAX = 9, LMAX = 2 * NMAX * (KMAX + 1) };
-    /* the Toda stepper works in blocks of 256 particles from particle 1: 257 is one full block
-     * ending at the last particle, 258 a last block of one */
+    /* the Toda stepper works in blocks of 256 interior particles: 258 is one full block, 259 a
+     * full block and one of one particle */
     static const int sizes[] = {2, 3, 17, 64, 259, 600};
-    static const int sizes_toda[] = {2, 3, 17, 64, 257, 258, 600};
+    static const int sizes_toda[] = {2, 3, 17, 64, 258, 259, 600};
     static const int devs[] = {0, 1, 2, 5, 9};
     static const double betas[] = {0.0, 0.3};
     static const char *const names[] = {"yoshida4", "srkn14a6"};
