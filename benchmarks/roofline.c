@@ -38,7 +38,13 @@
  * two end particles take that bond, its interior is the fixed chain's), each timed against its
  * plain-C ring step and against fputlab's fixed chain of the same model, N and k, the three
  * interleaved ("ring/fix"; the bytes are the fixed chain's).
- * Usage: roofline [repeats] [max_N] [min_N] [fixed|ring]. */
+ * Model 4, the Toda lattice (V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2), fixed ends), is
+ * timed the same way against its own plain loop (plain_toda_kick: per kick one loop forming each
+ * bond's V' and V'' from one fpl_expm1, the library's e^x - 1, into two scratch arrays, then one
+ * loop kicking the orbit and up to two vectors), its bytes counted as model 1's (the scratch
+ * arrays, in cache at every N here, not counted).
+ * Usage: roofline [repeats] [max_N] [min_N] [fixed|ring] [models, e.g. 14] (the last two in
+ * either order; the rings: models 1-3). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -46,6 +52,7 @@
 #include <string.h>
 #include <time.h>
 #include "fputlab.h"
+#include "../csrc/fpl_expm1.h"
 
 #define ALPHA 0.25
 #define CBRT2 1.2599210498948731647672106072782283505702514647015
@@ -226,6 +233,80 @@ static inline void plain_kick(int model, int ring, int n, int k, double *y, cons
         plain_tangent_interior(model, n, y + st * v, y + st * v + n, c->cn, c->s, kap, h);
 }
 
+/* Model 4, the Toda lattice: phi_b = V'(d_b) = expm1(2 alpha d_b)/(2 alpha) and kappa_b =
+ * V''(d_b) = 1 + expm1(2 alpha d_b) of bonds b = 0..n into phi, kap (one fpl_expm1 a bond, the
+ * loop vectorised), then p_i += h (phi_{i+1} - phi_i) and each vector's dp_i += h (kappa_{i+1}
+ * (u_{i+1} - u_i) - kappa_i (u_i - u_{i-1})), the orbit and up to two vectors in one loop. */
+static inline void plain_toda_kick(int n, int k, double *restrict y, double *restrict phi,
+                                   double *restrict kap, double h)
+{
+    const double two_a = 2.0 * ALPHA, inv_2a = 0.5 / ALPHA;
+    const size_t st = 2 * (size_t)n;
+    const double *restrict x = y;
+    {
+        const double m0 = fpl_expm1(two_a * x[0]), mn = fpl_expm1(two_a * -x[n - 1]);
+        phi[0] = m0 * inv_2a;
+        kap[0] = 1.0 + m0;
+        phi[n] = mn * inv_2a;
+        kap[n] = 1.0 + mn;
+    }
+    for (int b = 1; b < n; b++) {
+        const double m = fpl_expm1(two_a * (x[b] - x[b - 1]));
+        phi[b] = m * inv_2a;
+        kap[b] = 1.0 + m;
+    }
+    double *restrict p = y + n;
+    for (int v = 1; v <= k; v++) {   /* the vectors' end particles (walls: u_{-1} = u_n = 0) */
+        const double *u = y + st * v;
+        double *q = y + st * v + n;
+        q[0] += h * (kap[1] * (u[1] - u[0]) - kap[0] * u[0]);
+        q[n - 1] += h * (kap[n] * -u[n - 1] - kap[n - 1] * (u[n - 1] - u[n - 2]));
+    }
+    if (k <= 2) {
+        const double *restrict u = k >= 1 ? y + st : NULL, *restrict w = k == 2 ? y + 2 * st : NULL;
+        double *restrict q = k >= 1 ? y + st + n : NULL, *restrict r = k == 2 ? y + 2 * st + n : NULL;
+        if (k == 0)
+            for (int i = 0; i < n; i++) p[i] += h * (phi[i + 1] - phi[i]);
+        else if (k == 1)
+            for (int i = 1; i < n - 1; i++) {
+                p[i] += h * (phi[i + 1] - phi[i]);
+                q[i] += h * (kap[i + 1] * (u[i + 1] - u[i]) - kap[i] * (u[i] - u[i - 1]));
+            }
+        else
+            for (int i = 1; i < n - 1; i++) {
+                p[i] += h * (phi[i + 1] - phi[i]);
+                q[i] += h * (kap[i + 1] * (u[i + 1] - u[i]) - kap[i] * (u[i] - u[i - 1]));
+                r[i] += h * (kap[i + 1] * (w[i + 1] - w[i]) - kap[i] * (w[i] - w[i - 1]));
+            }
+        if (k >= 1) {
+            p[0] += h * (phi[1] - phi[0]);
+            p[n - 1] += h * (phi[n] - phi[n - 1]);
+        }
+        return;
+    }
+    for (int i = 0; i < n; i++) p[i] += h * (phi[i + 1] - phi[i]);
+    for (int v = 1; v <= k; v++) {
+        const double *restrict u = y + st * v;
+        double *restrict q = y + st * v + n;
+        for (int i = 1; i < n - 1; i++)
+            q[i] += h * (kap[i + 1] * (u[i + 1] - u[i]) - kap[i] * (u[i] - u[i - 1]));
+    }
+}
+
+static void plain_toda_yoshida4(int n, int k, double *y, const coef *c, double *phi,
+                                double *kap, double dt, long steps)
+{
+    for (long s = 0; s < steps; s++) {
+        plain_drift(1, n, k, y, c, 0.5 * W1 * dt);
+        plain_toda_kick(n, k, y, phi, kap, W1 * dt);
+        plain_drift(1, n, k, y, c, 0.5 * (W0 + W1) * dt);
+        plain_toda_kick(n, k, y, phi, kap, W0 * dt);
+        plain_drift(1, n, k, y, c, 0.5 * (W0 + W1) * dt);
+        plain_toda_kick(n, k, y, phi, kap, W1 * dt);
+        plain_drift(1, n, k, y, c, 0.5 * W1 * dt);
+    }
+}
+
 static inline void plain_yoshida4_model(int model, int ring, int n, int k, double *y,
                                         const coef *c, double *kap, double dt, long steps)
 {
@@ -244,6 +325,10 @@ static inline void plain_yoshida4_model(int model, int ring, int n, int k, doubl
 static void plain_yoshida4(int model, int ring, int n, int k, double *y, const coef *c,
                            double *kap, double dt, long steps)
 {
+    if (model == 4) {   /* fixed ends only */
+        plain_toda_yoshida4(n, k, y, c, kap + n + 1, kap, dt, steps);
+        return;
+    }
     if (ring) {
         if (model == 1) plain_yoshida4_model(1, 1, n, k, y, c, kap, dt, steps);
         else if (model == 2) plain_yoshida4_model(2, 1, n, k, y, c, kap, dt, steps);
@@ -279,7 +364,7 @@ static double step_bytes(int model, int k)
 static double fused_step_bytes(int model, int n, int k)
 {
     const double pass = 32.0 * (k + 1) + (model == 2 ? 24.0 : model == 3 ? 8.0 : 0.0);
-    const int sweep = n > 1024 && (k >= 3 || (k >= 1 && 16.0 * n * (k + 1) > 10.0 * 1048576.0));
+    const int sweep = model != 4 && n > 1024 && (k >= 3 || (k >= 1 && 16.0 * n * (k + 1) > 10.0 * 1048576.0));
     if (sweep) return pass / 10.0;
     if (k > 2) return step_bytes(model, k);
     return 3.0 * pass;
@@ -310,7 +395,13 @@ int main(int argc, char **argv)
     const int repeats = argc > 1 ? atoi(argv[1]) : 5;
     const long max_n = argc > 2 ? atol(argv[2]) : 1L << 22;
     const long min_n = argc > 3 ? atol(argv[3]) : 0;
-    const int ring = argc > 4 && strcmp(argv[4], "ring") == 0;
+    int ring = 0;
+    const char *models = "1234";
+    for (int i = 4; i < argc; i++) {
+        if (strcmp(argv[i], "ring") == 0) ring = 1;
+        else if (strcmp(argv[i], "fixed") == 0) ring = 0;
+        else models = argv[i];
+    }
     static const int sizes[] = {16, 64, 512, 4096, 32768, 262144, 1 << 22};
     const fpl_splitting *yo = NULL;
     if (fpl_splitting_lookup("yoshida4", &yo)) return 1;
@@ -328,7 +419,8 @@ int main(int argc, char **argv)
                "[ns/p-st]", "[ns/p-st]");
     }
     double t_model1[8][8] = {{0}}, t_orbit[8] = {0};
-    for (int model = 1; model <= 3; model++) {
+    for (int model = 1; model <= 4; model++) {
+        if (!strchr(models, '0' + model) || (ring && model == 4)) continue;   /* no plain Toda ring */
         for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++) {
             const int n = sizes[in];
             if (n > max_n) break;
@@ -339,18 +431,18 @@ int main(int argc, char **argv)
             double *v = malloc(sizeof(double) * (size_t)n);
             coef c = {malloc(sizeof(double) * (size_t)n), malloc(sizeof(double) * (size_t)n),
                       malloc(sizeof(double) * (size_t)n)};
-            double *kap = malloc(sizeof(double) * ((size_t)n + 1));
+            double *kap = malloc(sizeof(double) * 2 * ((size_t)n + 1));   /* Toda: + phi */
             if (!v || !c.cn || !c.s || !c.minv || !kap) return 1;
             for (int j = 0; j < n; j++) {
                 v[j] = 0.9 + 0.2 * (0.5 + 0.5 * sin(12.9898 * j + 78.233 * (j % 17)));
-                c.cn[j] = model == 1 ? 1.0 : v[j];
+                c.cn[j] = model == 1 || model == 4 ? 1.0 : v[j];
                 c.s[j] = model == 2 ? v[j] : 1.0;
                 c.minv[j] = model == 2 ? 1.0 / v[j] : 1.0;
             }
             fpl_lattice *lat = NULL, *fixed = NULL;   /* fixed: the ring's fixed chain */
-            if (fpl_lattice_create_ex(n, ALPHA, 0.0, model, model == 1 ? NULL : v,
+            if (fpl_lattice_create_ex(n, ALPHA, 0.0, model, model == 1 || model == 4 ? NULL : v,
                                       ring ? FPL_BOUNDARY_PERIODIC : FPL_BOUNDARY_FIXED, &lat) ||
-                (ring && fpl_lattice_create(n, ALPHA, 0.0, model, model == 1 ? NULL : v, &fixed))) {
+                (ring && fpl_lattice_create(n, ALPHA, 0.0, model, model == 1 || model == 4 ? NULL : v, &fixed))) {
                 fprintf(stderr, "lattice N = %d: %s\n", n, fpl_last_error());
                 return 1;
             }

@@ -467,11 +467,12 @@ def _inner_loops(clean: str, body: tuple, names):
 
 
 def check_vectorisation(bdir, log):
-    """Compile csrc/models.c, csrc/splitting.c, csrc/harmonic_split.c and csrc/rkn.c with the
-    build's own flags plus -fopt-info-vec-optimized and list, for every innermost loop of the
+    """Compile csrc/models.c, csrc/model_toda.c, csrc/splitting.c, csrc/harmonic_split.c and
+    csrc/rkn.c with the build's own flags plus -fopt-info-vec-optimized and list, for every innermost loop of the
     hot functions (those marked FPL_HOT and the file-local functions they call), whether and how
     wide GCC vectorised it."""
-    files = ["csrc/models.c", "csrc/splitting.c", "csrc/harmonic_split.c", "csrc/rkn.c"]
+    files = ["csrc/models.c", "csrc/model_toda.c", "csrc/splitting.c", "csrc/harmonic_split.c",
+             "csrc/rkn.c"]
     cmds = {}
     cc_json = bdir / "compile_commands.json" if bdir else None
     if cc_json and cc_json.exists():

@@ -150,11 +150,11 @@ FPL_INLINE void bond(const fpl_chaos_batch *B, grp G, int j, int which, int mode
         return;
     }
     if (model == FPL_MODEL_TODA) {
-        /* model_toda.c: toda_bonds (expm1 is scalar: lane by lane) */
+        /* model_toda.c: toda_bonds (fpl_expm1's four-lane form: the same bits per lane) */
         const double two_a = 2.0 * a, inv_2a = 0.5 / a;
         const vd d = wrap ? xj - xl : which == 0 ? xj : which == 1 ? xj - xl : -xl;
         vd m;
-        for (int w = 0; w < LANES; w++) m[w] = FPL_TODA_M(d[w], two_a);
+        FPL_TODA_M_V4(m, d, two_a);
         *phi = FPL_TODA_PHI(m, inv_2a);
         *kap = FPL_TODA_KAPPA(m);
         return;
@@ -315,7 +315,7 @@ FPL_INLINE void kick_drift_carried(const fpl_chaos_batch *B, grp G, double h, do
             } else if (model == FPL_MODEL_TODA) {
                 const vd d = xj - xc[0];
                 vd mm;
-                for (int w = 0; w < LANES; w++) mm[w] = FPL_TODA_M(d[w], two_a);
+                FPL_TODA_M_V4(mm, d, two_a);
                 f = FPL_TODA_PHI(mm, inv_2a);
                 kap = FPL_TODA_KAPPA(mm);
             } else {

@@ -15,6 +15,8 @@
 #ifndef FPUTLAB_MODEL_TERMS_H
 #define FPUTLAB_MODEL_TERMS_H
 
+#include "fpl_expm1.h"
+
 /* ---- model 1, the homogeneous chain (cl = cn = s = minv = 1): d_b = x_b - x_{b-1} --------- */
 
 /* phi_b and the full curvature V''(d_b) (the linear part's 1 included). */
@@ -52,11 +54,17 @@
 
 /* ---- model 4, the Toda lattice (cl = cn = s = minv = 1): d_b = x_b - x_{b-1} -------------- */
 
-/* V(d) = (e^{2 alpha d} - 1 - 2 alpha d)/(4 alpha^2). From m = expm1(2 alpha d), one libm call a
- * bond (expm1 rather than exp - 1: the harmonic limit lives in the digits exp - 1 would lose):
+/* V(d) = (e^{2 alpha d} - 1 - 2 alpha d)/(4 alpha^2). From m = expm1(2 alpha d), one a bond
+ * (expm1 rather than exp - 1: the harmonic limit lives in the digits exp - 1 would lose):
  * phi_b = V'(d_b) = m / (2 alpha) (inv_2a = 1/(2 alpha)) and the full curvature V''(d_b) = 1 + m.
- * expm1 is scalar: a lane kernel applies FPL_TODA_M per lane. */
-#define FPL_TODA_M(d, two_a) expm1((two_a) * (d))
+ * expm1 is fpl_expm1.h's, branch-free, so the bond loops vectorise; a lane kernel calls its
+ * four-lane form FPL_TODA_M_V4 (out = m), the same arithmetic (the same bits per lane). */
+#define FPL_TODA_M(d, two_a) fpl_expm1((two_a) * (d))
+#define FPL_TODA_M_V4(out, d, two_a)                                                               \
+    do {                                                                                         \
+        const fpl_v4d u_ = (two_a) * (d);                                                        \
+        fpl_expm1_v4(&u_, &(out));                                                               \
+    } while (0)
 #define FPL_TODA_PHI(m, inv_2a) ((m) * (inv_2a))
 #define FPL_TODA_KAPPA(m) (1.0 + (m))
 /* The tangent bond force is kappa_b dd_b, as model 1's. */

@@ -1782,7 +1782,8 @@ static const fpl_model_ops ops_table[] = {
     {FPL_MODEL_NONLINEAR, "nonlinear", coefficients_nonlinear, drift_unit_mass, kick_nonlinear,
      steps_nonlinear, energy_plain, FPL_BOUNDARY_FIXED, NULL, NULL, NULL},
     /* model_toda.c; periodic chains: models_periodic.c */
-    {FPL_MODEL_TODA, "toda", fpl_toda_coefficients, drift_unit_mass, fpl_toda_kick_fixed, NULL,
+    {FPL_MODEL_TODA, "toda", fpl_toda_coefficients, drift_unit_mass, fpl_toda_kick_fixed,
+     fpl_toda_steps_fixed,
      fpl_any_energy_hamiltonian, FPL_BOUNDARY_FIXED, fpl_any_force, fpl_any_tangent,
      fpl_any_jacobian_entries},
 };

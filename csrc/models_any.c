@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 #include "models_extra.h"
+#include "fpl_expm1.h"
 
 /* R_b = c[b] x[b] - c[b-1] x[b-1] of bond b = 0..N. */
 static double stretch(const fpl_lattice *lat, const double *c, const double *x, int b)
@@ -41,7 +42,7 @@ static void law_eval(const bond_law *law, double R, double *phi_nl, double *kap_
 {
     const double a = law->a, b = law->b;
     if (law->toda) {
-        const double m = expm1(2.0 * a * R);
+        const double m = fpl_expm1(2.0 * a * R);   /* the kicks' expm1 (model_terms.h) */
         *phi_nl = m * law->inv_2a - R;
         *kap_nl = m;
         *dkap = 2.0 * a * (1.0 + m);
@@ -147,7 +148,7 @@ double fpl_toda_bond_energy(double r, double alpha)
         }
         return sum * u * u / (4.0 * alpha * alpha);
     }
-    return (expm1(u) - u) / (4.0 * alpha * alpha);
+    return (fpl_expm1(u) - u) / (4.0 * alpha * alpha);
 }
 
 static double energy_with(const fpl_lattice *lat, const double *y, const double *c)

@@ -8,13 +8,7 @@
 #include "internal.h"
 
 /* The Toda bond: V(r) = (e^{2 alpha r} - 1 - 2 alpha r)/(4 alpha^2), V'(r) = expm1(2 alpha r)/(2
- * alpha), V''(r) = e^{2 alpha r}. expm1 keeps V' accurate to round-off at small stretches (where
- * e^u - 1 would lose the digits the harmonic limit lives on). */
-static inline double fpl_toda_force(double r, double alpha, double inv_2alpha)
-{
-    return expm1(2.0 * alpha * r) * inv_2alpha;
-}
-
+ * alpha), V''(r) = e^{2 alpha r}, expm1 being fpl_expm1 (fpl_expm1.h) on every path. */
 /* V(r), with its Taylor series for |2 alpha r| < 0.1, where expm1(u) - u cancels. */
 double fpl_toda_bond_energy(double r, double alpha);
 
@@ -54,5 +48,10 @@ int fpl_steps_ring_homogeneous_fused(const fpl_splitting *scheme, void *ctx, dou
 void fpl_toda_coefficients(double v, double *cl, double *cn, double *s, double *minv);
 void fpl_toda_kick_fixed(void *ctx, double *y, double h);
 void fpl_toda_kick_periodic(void *ctx, double *y, double h);
+/* The fused steppers (fpl_split_system.steps): n steps, bit-identical to the kicks above. */
+void fpl_toda_steps_fixed(const fpl_splitting *scheme, void *ctx, double *y, double dt,
+                          long nsteps);
+void fpl_toda_steps_periodic(const fpl_splitting *scheme, void *ctx, double *y, double dt,
+                             long nsteps);
 
 #endif

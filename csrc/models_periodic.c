@@ -217,7 +217,8 @@ static const fpl_model_ops periodic_table[] = {
     {FPL_MODEL_NONLINEAR, "nonlinear", NULL, fpl_drift_unit_mass, fpl_kick_ring_nonlinear,
      fpl_steps_ring_nonlinear, fpl_any_energy_plain, FPL_BOUNDARY_PERIODIC, fpl_any_force, fpl_any_tangent,
      fpl_any_jacobian_entries},
-    {FPL_MODEL_TODA, "toda", NULL, fpl_drift_unit_mass, fpl_toda_kick_periodic, NULL,
+    {FPL_MODEL_TODA, "toda", NULL, fpl_drift_unit_mass, fpl_toda_kick_periodic,
+     fpl_toda_steps_periodic,
      fpl_any_energy_hamiltonian, FPL_BOUNDARY_PERIODIC, fpl_any_force, fpl_any_tangent,
      fpl_any_jacobian_entries},
 };

@@ -602,7 +602,9 @@ static void test_homogeneous_kernels(void)
  * two of the many-vector kick). Rings too, up to N = 259: they take the same fused stages and
  * many-vector steps (bond 0 joining particles N-1 and 0), checked bit for bit against their own
  * per-stage drift and kick (the ring kicks of models_periodic.c and models.c) and to round-off
- * against the generic ring kernels. */
+ * against the generic ring kernels. The Toda lattice (model_toda.c's fused stepper, blocks of 256
+ * particles) likewise, with fixed ends and on a ring, N = 2, 3, 17, 64, 258, 259 and 600: fused =
+ * per-stage bit for bit, = the generic kernels to round-off (they form V'(R) as R + (V'(R) - R)). */
 static void reference_steps(const fpl_splitting *sc, const fpl_lattice *lat, double *y, int k,
                             double dt, long nsteps, double *f, double *dx, double *df)
 {
@@ -629,27 +631,35 @@ static void reference_steps(const fpl_splitting *sc, const fpl_lattice *lat, dou
 static void test_model_kernels(void)
 {
     enum { NMAX = 600, KMAX = 9, LMAX = 2 * NMAX * (KMAX + 1) };
-    static const int sizes[] = {2, 3, 17, 64, 259, 600}, devs[] = {0, 1, 2, 5, 9};
+    /* the Toda stepper works in blocks of 256 interior particles: 258 is one full block, 259 a
+     * full block and one of one particle */
+    static const int sizes[] = {2, 3, 17, 64, 259, 600};
+    static const int sizes_toda[] = {2, 3, 17, 64, 258, 259, 600};
+    static const int devs[] = {0, 1, 2, 5, 9};
     static const double betas[] = {0.0, 0.3};
     static const char *const names[] = {"yoshida4", "srkn14a6"};
     static double v[NMAX], y0[LMAX], ya[LMAX], yb[LMAX], yc[LMAX], f[NMAX], dx[NMAX * KMAX],
         df[NMAX * KMAX], phi[NMAX + 1], kap[NMAX + 1], dphi[NMAX + 1];
     for (int i = 0; i < NMAX; i++) v[i] = 1.0 + 0.4 * sin(1.3 * i + 0.2 * (i * i % 7));
-    double worst[4] = {0};
+    double worst[5] = {0};
     int cases = 0;
-    for (int mb = 0; mb < 6; mb++)   /* models 1-3, each with fixed ends and as a ring */
-        for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++)
-            for (size_t ib = 0; ib < 2; ib++)
+    /* models 1-3 (beta = 0 and 0.3) and the Toda lattice (beta = 0), each with fixed ends and as
+     * a ring */
+    for (int model = 1; model <= 4; model++)
+        for (int ring = 0; ring <= 1; ring++)
+        for (size_t in = 0; in < (model == FPL_MODEL_TODA ? 7 : 6); in++)
+            for (size_t ib = 0; ib < (model == FPL_MODEL_TODA ? 1u : 2u); ib++)
                 for (size_t id = 0; id < sizeof devs / sizeof *devs; id++)
                     for (size_t is = 0; is < 2; is++) {
-                        const int model = 1 + mb / 2, n = sizes[in], k = devs[id];
-                        const int bnd = mb % 2 ? FPL_BOUNDARY_PERIODIC : FPL_BOUNDARY_FIXED;
-                        if (bnd == FPL_BOUNDARY_PERIODIC && n > 259) continue;   /* test time */
+                        const int n = model == FPL_MODEL_TODA ? sizes_toda[in] : sizes[in];
+                        const int k = devs[id];
+                        const int bnd = ring ? FPL_BOUNDARY_PERIODIC : FPL_BOUNDARY_FIXED;
+                        if (ring && model != FPL_MODEL_TODA && n > 259) continue;   /* test time */
                         const long len = 2L * n * (k + 1), steps = 100;
                         const fpl_splitting *sc = scheme(names[is]);
                         fpl_lattice *lat = NULL;
                         CHECK_OK(fpl_lattice_create_ex(n, 0.25, betas[ib], model,
-                                                       model == FPL_MODEL_HOMOGENEOUS ? NULL : v,
+                                                       model == 2 || model == 3 ? v : NULL,
                                                        bnd, &lat));
                         if (!lat || !sc) return;
                         for (long i = 0; i < len; i++)   /* a deterministic, irregular state */
@@ -673,7 +683,9 @@ static void test_model_kernels(void)
                               "model %d boundary %d %s N=%d beta=%g k=%d: the fused stepper differs "
                               "from the model's per-stage drift and kick", model, bnd, names[is], n,
                               betas[ib], k);
-                        if (model != FPL_MODEL_HAMILTONIAN && bnd == FPL_BOUNDARY_FIXED)
+                        /* (Toda: the generic force forms R + (V'(R) - R), not V'(R)) */
+                        if ((model == FPL_MODEL_HOMOGENEOUS || model == FPL_MODEL_NONLINEAR) &&
+                            bnd == FPL_BOUNDARY_FIXED)
                             CHECK(memcmp(ya, yb, sizeof(double) * 2 * (size_t)n) == 0,
                                   "model %d %s N=%d beta=%g k=%d: orbit differs from the generic "
                                   "kernels", model, names[is], n, betas[ib], k);
@@ -684,11 +696,12 @@ static void test_model_kernels(void)
                         cases++;
                         fpl_lattice_free(&lat);
                     }
-    for (int model = 1; model <= 3; model++)
+    for (int model = 1; model <= 4; model++)
         CHECK(worst[model] < 1e-12, "model %d: the fused kernels differ from the generic ones by "
               "%.2e", model, worst[model]);
     printf("fused kernels = generic kernels, fixed ends and rings: %d cases, model 1 %.1e, model 2 "
-           "%.1e, model 3 %.1e (models 1 and 3, fixed ends: orbit bit for bit)\n", cases, worst[1], worst[2], worst[3]);
+           "%.1e, model 3 %.1e, Toda %.1e (models 1 and 3, fixed ends: orbit bit for bit)\n", cases,
+           worst[1], worst[2], worst[3], worst[4]);
 }
 
 /* Many deviation vectors on every model and boundary (issue 22): the fused stepper
