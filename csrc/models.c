@@ -1122,6 +1122,13 @@ FPL_INLINE int steps_fused(const fpl_splitting *scheme, const fpl_lattice_ctx *c
  * stage-by-stage order (kick_homogeneous_body / kick_general_body with n_dev > 2), in that order:
  * bit-identical. */
 #define FUSE_MANY_BLOCK 512
+/* Rings whose state exceeds FPL_SWEEP_FEW_MIN_BYTES (the fixed chains take the sweep there) go in
+ * blocks of 4096 particles (a vector's block, 64 kB, stays in L2 between its drift and kick):
+ * 512-particle blocks restart the hardware prefetch of every array on each 4 kB page and were
+ * up to 1.4x slower than the stage-by-stage step out of cache (model 1, N = 262 144, k = 6);
+ * 4096 was 1.1-1.7x faster than 512 there and 512 5-25 % faster than 4096 in cache
+ * (N = 4096-32 768, k = 3-8; benchmarks/README.md). */
+#define FUSE_MANY_RING_BLOCK_BIG 4096
 
 /* dp_i += h (kappa_{i+1} ddx_{i+1} - kappa_i ddx_i) for i in [lo, hi) (kick_tangent_homogeneous
  * on a range). */
@@ -1133,9 +1140,13 @@ FPL_INLINE void kick_tangent_homogeneous_range(int lo, int hi, const double *res
         FPL_KICK_UNIT(dp[i], h, kap[i + 1] * (dx[i + 1] - dx[i]), kap[i] * (dx[i] - dx[i - 1]));
 }
 
-/* One stage (drift hd, after hd0 if `pre`; kick hk) with c->n_dev >= 3 vectors, N >= 3. */
+/* One stage (drift hd, after hd0 if `pre`; kick hk) with c->n_dev >= 3 vectors, N >= 3; `ring`
+ * (a constant): the periodic chain, as stage_fused's (the interior blocks are the fixed chain's,
+ * whose kick of particle 1 needs only x_0, drifted in the first block; the end particles, kicked
+ * after the last block when every particle is drifted, see the wrap-around bond). */
 FPL_INLINE void stage_fused_many(const fpl_lattice_ctx *c, double *y, double hd0, double hd,
-                                 double hk, const int model, const int cubic, const int pre)
+                                 double hk, const int model, const int cubic, const int pre,
+                                 const int ring)
 {
     const fpl_lattice *lat = c->lat;
     const int n = lat->n, n_dev = c->n_dev;
@@ -1146,8 +1157,10 @@ FPL_INLINE void stage_fused_many(const fpl_lattice_ctx *c, double *y, double hd0
     const size_t stride = 2 * (size_t)n;
     double *x = y, *p = y + n;
     int done = 0;   /* particles [0, done) drifted */
-    for (int i0 = 1; i0 < n - 1; i0 += FUSE_MANY_BLOCK) {
-        const int i1 = i0 + FUSE_MANY_BLOCK < n - 1 ? i0 + FUSE_MANY_BLOCK : n - 1;
+    const int blk = ring && 16.0 * n * (n_dev + 1) > FPL_SWEEP_FEW_MIN_BYTES
+                        ? FUSE_MANY_RING_BLOCK_BIG : FUSE_MANY_BLOCK;
+    for (int i0 = 1; i0 < n - 1; i0 += blk) {
+        const int i1 = i0 + blk < n - 1 ? i0 + blk : n - 1;
         const int d1 = i1 == n - 1 ? n : i1 + 1;
         drift_range(done, d1, x, p, minv, hd0, hd, ham, pre);
         if (model == FPL_MODEL_HOMOGENEOUS) {
@@ -1166,8 +1179,17 @@ FPL_INLINE void stage_fused_many(const fpl_lattice_ctx *c, double *y, double hd0
         }
         done = d1;
     }
-    /* the end particles, as kick_homogeneous_body / kick_general_body */
-    if (model == FPL_MODEL_HOMOGENEOUS) {
+    /* the end particles, as kick_homogeneous_body / kick_general_body (the ring's: as
+     * kick_ring_body / kick_general_ring_body; kappa of the wrap-around bond and of bond N-1
+     * into kap[0] and kap[n - 1], bond 1's is in kap[1] from the first block, the bits of
+     * kick_ring_ends' k1: the same expression on the same x) */
+    if (ring) {
+        kick_ring_ends(n, x, p, NULL, NULL, NULL, NULL, cn, s, a, b, h, kap, model, cubic, 0);
+        for (int m = 1; m <= n_dev; m++) {
+            double *u = y + stride * (size_t)m;
+            kick_tangent_ends_ring(n, u, u + n, cn, s, kap[0], kap[1], kap[n - 1], h, model);
+        }
+    } else if (model == FPL_MODEL_HOMOGENEOUS) {
         const double d0 = x[0], d1 = x[1] - x[0];
         const double dm = x[n - 1] - x[n - 2], dn = -x[n - 1];
         const double phi0 = PHI_H(d0), phi1 = PHI_H(d1), phim = PHI_H(dm), phin = PHI_H(dn);
@@ -1194,10 +1216,10 @@ FPL_INLINE void stage_fused_many(const fpl_lattice_ctx *c, double *y, double hd0
     }
 }
 
-/* n steps with fused stages and n_dev >= 3 vectors (N >= 3). */
+/* n steps with fused stages and n_dev >= 3 vectors (N >= 3; `ring` a constant). */
 FPL_INLINE void steps_fused_many_body(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
                                       double *y, double dt, long nsteps, const int model,
-                                      const int cubic)
+                                      const int cubic, const int ring)
 {
     const int st = scheme->n_kicks, n = c->lat->n;
     const int ham = model == FPL_MODEL_HAMILTONIAN;
@@ -1206,9 +1228,10 @@ FPL_INLINE void steps_fused_many_body(const fpl_splitting *scheme, const fpl_lat
     for (long k = 0; k < nsteps; k++) {
         for (int i = 0; i < st; i++) {
             if (i == 0 && k > 0)
-                stage_fused_many(c, y, da[st] * dt, da[0] * dt, kb[0] * dt, model, cubic, 1);
+                stage_fused_many(c, y, da[st] * dt, da[0] * dt, kb[0] * dt, model, cubic, 1,
+                                 ring);
             else
-                stage_fused_many(c, y, 0.0, da[i] * dt, kb[i] * dt, model, cubic, 0);
+                stage_fused_many(c, y, 0.0, da[i] * dt, kb[i] * dt, model, cubic, 0, ring);
         }
     }
     if (nsteps > 0)
@@ -1441,7 +1464,9 @@ static int steps_sweep_applies(const fpl_splitting *scheme, const fpl_lattice_ct
            c->work->sweep_dev >= c->n_dev;
 }
 
-/* One out-of-line function per model and beta (see FPL_HOT_APART below). */
+/* One out-of-line function per model, beta and boundary (see FPL_HOT_APART below). The rings
+ * take the stage-fused pass only: the sweep's left-to-right carry of a bond term cannot close
+ * the ring (bond 0 = bond N would be needed at the left end before the right end is drifted). */
 #define FPL_HOT_APART_MANY FPL_HOT __attribute__((noinline))
 #define STEPS_FUSED_MANY(name, model, cubic)                                                     \
     FPL_HOT_APART_MANY static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,  \
@@ -1450,7 +1475,13 @@ static int steps_sweep_applies(const fpl_splitting *scheme, const fpl_lattice_ct
         if (steps_sweep_applies(scheme, c))                                                      \
             steps_sweep_body(scheme, c, y, dt, nsteps, model, cubic);                            \
         else                                                                                     \
-            steps_fused_many_body(scheme, c, y, dt, nsteps, model, cubic);                       \
+            steps_fused_many_body(scheme, c, y, dt, nsteps, model, cubic, 0);                    \
+    }
+#define STEPS_FUSED_MANY_RING(name, model, cubic)                                                \
+    FPL_HOT_APART_MANY static void name(const fpl_splitting *scheme, const fpl_lattice_ctx *c,  \
+                                        double *y, double dt, long nsteps)                      \
+    {                                                                                            \
+        steps_fused_many_body(scheme, c, y, dt, nsteps, model, cubic, 1);                        \
     }
 STEPS_FUSED_MANY(steps_fused_many_homogeneous_quad, FPL_MODEL_HOMOGENEOUS, 0)
 STEPS_FUSED_MANY(steps_fused_many_homogeneous_cubic, FPL_MODEL_HOMOGENEOUS, 1)
@@ -1458,33 +1489,53 @@ STEPS_FUSED_MANY(steps_fused_many_hamiltonian_quad, FPL_MODEL_HAMILTONIAN, 0)
 STEPS_FUSED_MANY(steps_fused_many_hamiltonian_cubic, FPL_MODEL_HAMILTONIAN, 1)
 STEPS_FUSED_MANY(steps_fused_many_nonlinear_quad, FPL_MODEL_NONLINEAR, 0)
 STEPS_FUSED_MANY(steps_fused_many_nonlinear_cubic, FPL_MODEL_NONLINEAR, 1)
+STEPS_FUSED_MANY_RING(steps_fused_many_ring_homogeneous_quad, FPL_MODEL_HOMOGENEOUS, 0)
+STEPS_FUSED_MANY_RING(steps_fused_many_ring_homogeneous_cubic, FPL_MODEL_HOMOGENEOUS, 1)
+STEPS_FUSED_MANY_RING(steps_fused_many_ring_hamiltonian_quad, FPL_MODEL_HAMILTONIAN, 0)
+STEPS_FUSED_MANY_RING(steps_fused_many_ring_hamiltonian_cubic, FPL_MODEL_HAMILTONIAN, 1)
+STEPS_FUSED_MANY_RING(steps_fused_many_ring_nonlinear_quad, FPL_MODEL_NONLINEAR, 0)
+STEPS_FUSED_MANY_RING(steps_fused_many_ring_nonlinear_cubic, FPL_MODEL_NONLINEAR, 1)
 
 /* Whether the long-chain steps apply: 3 or more vectors on a chain the vector-inner tiles do not
  * serve (those and the vector-by-vector step are tried first), the sweep if its scratch is there,
  * else the stage-fused pass; 1 or 2 vectors only where the sweep serves them (fpl_sweep_serves),
- * else the stage_fused pass of steps_fused. */
-static int steps_fused_many_applies(const fpl_splitting *scheme, const fpl_lattice_ctx *c)
+ * else the stage_fused pass of steps_fused. Rings (`ring` a constant): 3 or more vectors only
+ * (1 or 2 take steps_fused's stage_fused; no sweep). */
+static int steps_fused_many_applies(const fpl_splitting *scheme, const fpl_lattice_ctx *c,
+                                    const int ring)
 {
     if (c->lat->n <= FPL_VEC_INNER_MAX_N) return 0;
     if (c->n_dev >= FPL_VEC_INNER_MIN_DEV) return 1;
+    if (ring) return 0;
     return fpl_sweep_serves(c->lat->n, c->n_dev) && steps_sweep_applies(scheme, c);
 }
 
-/* The long-chain many-vector steps where they apply (returns 0 otherwise). */
-static int steps_fused_many(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
-                            double dt, long nsteps, const int model)
+/* The long-chain many-vector steps where they apply (returns 0 otherwise; `ring` a constant). */
+FPL_INLINE int steps_fused_many(const fpl_splitting *scheme, const fpl_lattice_ctx *c, double *y,
+                                double dt, long nsteps, const int model, const int ring)
 {
-    if (!steps_fused_many_applies(scheme, c)) return 0;
+    if (!steps_fused_many_applies(scheme, c, ring)) return 0;
     const int cubic = c->lat->beta != 0.0;
-    if (model == FPL_MODEL_HOMOGENEOUS)
+    if (ring) {
+        if (model == FPL_MODEL_HOMOGENEOUS)
+            (cubic ? steps_fused_many_ring_homogeneous_cubic
+                   : steps_fused_many_ring_homogeneous_quad)(scheme, c, y, dt, nsteps);
+        else if (model == FPL_MODEL_HAMILTONIAN)
+            (cubic ? steps_fused_many_ring_hamiltonian_cubic
+                   : steps_fused_many_ring_hamiltonian_quad)(scheme, c, y, dt, nsteps);
+        else
+            (cubic ? steps_fused_many_ring_nonlinear_cubic
+                   : steps_fused_many_ring_nonlinear_quad)(scheme, c, y, dt, nsteps);
+    } else if (model == FPL_MODEL_HOMOGENEOUS) {
         (cubic ? steps_fused_many_homogeneous_cubic : steps_fused_many_homogeneous_quad)(
             scheme, c, y, dt, nsteps);
-    else if (model == FPL_MODEL_HAMILTONIAN)
+    } else if (model == FPL_MODEL_HAMILTONIAN) {
         (cubic ? steps_fused_many_hamiltonian_cubic : steps_fused_many_hamiltonian_quad)(
             scheme, c, y, dt, nsteps);
-    else
+    } else {
         (cubic ? steps_fused_many_nonlinear_cubic : steps_fused_many_nonlinear_quad)(
             scheme, c, y, dt, nsteps);
+    }
     return 1;
 }
 
@@ -1549,7 +1600,7 @@ FPL_HOT static void steps_homogeneous(const fpl_splitting *scheme, void *ctx, do
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0))
         return;
-    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS))
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 0))
         return;
     if (c->lat->beta == 0.0)
         steps_few_homogeneous_quad(scheme, c, y, dt, nsteps);
@@ -1563,7 +1614,7 @@ FPL_HOT static void steps_hamiltonian(const fpl_splitting *scheme, void *ctx, do
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0))
         return;
-    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN))
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 0))
         return;
     if (c->lat->beta == 0.0)
         steps_few_hamiltonian_quad(scheme, c, y, dt, nsteps);
@@ -1577,7 +1628,7 @@ FPL_HOT static void steps_nonlinear(const fpl_splitting *scheme, void *ctx, doub
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0))
         return;
-    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR))
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 0))
         return;
     if (c->lat->beta == 0.0)
         steps_few_nonlinear_quad(scheme, c, y, dt, nsteps);
@@ -1644,6 +1695,8 @@ FPL_HOT int fpl_steps_ring_homogeneous_fused(const fpl_splitting *scheme, void *
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1))
         return 1;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HOMOGENEOUS, 1))
+        return 1;
     if (c->lat->beta == 0.0)
         return steps_few_ring_homogeneous_quad(scheme, c, y, dt, nsteps);
     return steps_few_ring_homogeneous_cubic(scheme, c, y, dt, nsteps);
@@ -1654,6 +1707,8 @@ FPL_HOT void fpl_steps_ring_hamiltonian(const fpl_splitting *scheme, void *ctx, 
 {
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1))
+        return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_HAMILTONIAN, 1))
         return;
     if (c->lat->beta == 0.0)
         steps_few_ring_hamiltonian_quad(scheme, c, y, dt, nsteps);
@@ -1666,6 +1721,8 @@ FPL_HOT void fpl_steps_ring_nonlinear(const fpl_splitting *scheme, void *ctx, do
 {
     const fpl_lattice_ctx *c = ctx;
     if (steps_many_vectors(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1))
+        return;
+    if (steps_fused_many(scheme, c, y, dt, nsteps, FPL_MODEL_NONLINEAR, 1))
         return;
     if (c->lat->beta == 0.0)
         steps_few_ring_nonlinear_quad(scheme, c, y, dt, nsteps);

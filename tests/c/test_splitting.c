@@ -781,7 +781,9 @@ static void test_many_vectors(void)
  * 9, N = 1025 (a last block of one particle), 1536 (three full blocks) and 2100; Yoshida 4 over
  * 23 steps (sweeps of 10, 10 and 1 step, then a second call of 2: the last drift of a call is
  * not merged into the next), SRKN14a6 over 9 (sweeps of 2 steps and 1), leapfrog over 40 (32 + 6,
- * then 2). */
+ * then 2). Rings (N = 1025 and 2100) likewise: they take the stage-fused pass, the ring's end
+ * particles after the last block (the sweep's carry cannot close a ring), against their own
+ * per-stage drift and ring kick. */
 static void test_long_chain_many_vectors(void)
 {
     enum { NMAX = 2100, KMAX = 9, LMAX = 2 * NMAX * (KMAX + 1) };
@@ -793,17 +795,23 @@ static void test_long_chain_many_vectors(void)
     for (int i = 0; i < NMAX; i++) v[i] = 1.0 + 0.4 * sin(1.3 * i + 0.2 * (i * i % 7));
     double worst = 0.0;
     int cases = 0;
+    int ring_cases = 0;
+    for (int ring = 0; ring <= 1; ring++)
     for (int model = 1; model <= 3; model++)
         for (size_t in = 0; in < sizeof sizes / sizeof *sizes; in++)
             for (int ib = 0; ib < 2; ib++)
                 for (int id = 0; id < 2; id++) {
-                    const int n = sizes[in], k = devs[id], is = (int)((in + ib + id + model) % 3);
+                    const int n = sizes[in], k = devs[id];
+                    const int is = (int)((in + ib + id + model + ring) % 3);
                     const long len = 2L * n * (k + 1), steps = nsteps[is];
                     const double dt = 0.02;
                     const fpl_splitting *sc = scheme(names[is]);
                     fpl_lattice *lat = NULL;
-                    CHECK_OK(fpl_lattice_create(n, 0.25, 0.3 * ib, model,
-                                                model == FPL_MODEL_HOMOGENEOUS ? NULL : v, &lat));
+                    if (ring && in == 1) continue;   /* test time */
+                    CHECK_OK(fpl_lattice_create_ex(n, 0.25, 0.3 * ib, model,
+                                                   model == FPL_MODEL_HOMOGENEOUS ? NULL : v,
+                                                   ring ? FPL_BOUNDARY_PERIODIC
+                                                        : FPL_BOUNDARY_FIXED, &lat));
                     if (!lat || !sc) return;
                     for (long i = 0; i < len; i++)
                         ya[i] = 0.3 * sin(0.7 * (double)i + 0.3 * (double)(i * i % 11));
@@ -821,8 +829,9 @@ static void test_long_chain_many_vectors(void)
                         lat->ops->drift(&ctx, yc, sc->n_kicks, sc->drift[sc->n_kicks] * dt);
                     }
                     CHECK(memcmp(ya, yc, sizeof(double) * (size_t)len) == 0,
-                          "model %d %s N=%d beta=%g k=%d: the long-chain sweep differs from the "
-                          "per-stage drift and kick", model, sc->name, n, 0.3 * ib, k);
+                          "model %d ring %d %s N=%d beta=%g k=%d: the long-chain sweep (rings: "
+                          "stage-fused step) differs from the per-stage drift and kick", model,
+                          ring, sc->name, n, 0.3 * ib, k);
                     /* the stepper without the sweep's scratch: the stage-by-stage fused pass */
                     memcpy(yb, yc, sizeof(double) * (size_t)len);
                     memcpy(yc, ya, sizeof(double) * (size_t)len);
@@ -835,9 +844,9 @@ static void test_long_chain_many_vectors(void)
                         lat->ops->drift(&ctx, ya, sc->n_kicks, sc->drift[sc->n_kicks] * dt);
                     }
                     CHECK(memcmp(ya, yc, sizeof(double) * (size_t)len) == 0,
-                          "model %d %s N=%d beta=%g k=%d: the stage-fused many-vector step "
-                          "differs from the per-stage drift and kick", model, sc->name, n,
-                          0.3 * ib, k);
+                          "model %d ring %d %s N=%d beta=%g k=%d: the stage-fused many-vector "
+                          "step differs from the per-stage drift and kick", model, ring, sc->name,
+                          n, 0.3 * ib, k);
                     /* the generic kernels from the same start, to round-off */
                     for (long i = 0; i < len; i++)
                         yc[i] = 0.3 * sin(0.7 * (double)i + 0.3 * (double)(i * i % 11));
@@ -847,12 +856,14 @@ static void test_long_chain_many_vectors(void)
                         if (d > worst) worst = d;
                     }
                     cases++;
+                    ring_cases += ring;
                     fpl_lattice_free(&lat);
                 }
     CHECK(worst < 1e-11, "long chains, many vectors: the fused kernels differ from the generic "
           "ones by %.2e", worst);
-    printf("many vectors on long chains (N = 1025-2100, k = 3, 9), models 1-3: %d cases, sweep "
-           "and stage-fused step = per-stage bit for bit, = generic within %.1e\n", cases, worst);
+    printf("many vectors on long chains (N = 1025-2100, k = 3, 9), models 1-3: %d cases (%d "
+           "rings), sweep and stage-fused step = per-stage bit for bit, = generic within %.1e\n",
+           cases, ring_cases, worst);
 }
 
 /* One and two deviation vectors on chains whose state exceeds 10 MiB take the sweep too (issue
@@ -909,6 +920,58 @@ static void test_long_chain_few_vectors(void)
     free(dphi);
 }
 
+/* Rings with many vectors whose state exceeds 10 MiB go in larger blocks (4096 particles; issue
+ * 22): N = 163 841 with 3 vectors (10.5 MB; a last block of 4095 particles), models 1-3, against
+ * one call per stage of the model's drift and ring kick, bit for bit (Yoshida 4, 5 steps in two
+ * calls). */
+static void test_long_ring_many_vectors(void)
+{
+    const int n = 163841, k = 3;
+    const long len = 2L * n * (k + 1);
+    double *v = malloc(sizeof(double) * n), *ya = malloc(sizeof(double) * (size_t)len);
+    double *yc = malloc(sizeof(double) * (size_t)len), *phi = malloc(sizeof(double) * (n + 1));
+    double *kap = malloc(sizeof(double) * (n + 1)), *dphi = malloc(sizeof(double) * (n + 1));
+    CHECK(v && ya && yc && phi && kap && dphi, "out of memory");
+    if (!v || !ya || !yc || !phi || !kap || !dphi) return;
+    for (int i = 0; i < n; i++) v[i] = 1.0 + 0.4 * sin(1.3 * i + 0.2 * (i * i % 7));
+    const fpl_splitting *sc = scheme("yoshida4");
+    const double dt = 0.02;
+    int cases = 0;
+    for (int model = 1; model <= 3; model++) {
+        fpl_lattice *lat = NULL;
+        CHECK_OK(fpl_lattice_create_ex(n, 0.25, model == 2 ? 0.0 : 0.3, model,
+                                       model == FPL_MODEL_HOMOGENEOUS ? NULL : v,
+                                       FPL_BOUNDARY_PERIODIC, &lat));
+        if (!lat || !sc) break;
+        for (long i = 0; i < len; i++)
+            ya[i] = yc[i] = 0.3 * sin(0.7 * (double)i + 0.3 * (double)(i * i % 11));
+        CHECK_OK(fpl_splitting_advance(sc, lat, ya, k, dt, 3));
+        CHECK_OK(fpl_splitting_advance(sc, lat, ya, k, dt, 2));
+        fpl_work w = {.n = n, .phi = phi, .kappa = kap, .dphi = dphi};
+        fpl_lattice_ctx ctx = {lat, &w, k};
+        for (long st = 0; st < 5; st++) {
+            for (int i = 0; i < sc->n_kicks; i++) {
+                lat->ops->drift(&ctx, yc, i, sc->drift[i] * dt);
+                lat->ops->kick(&ctx, yc, sc->kick[i] * dt);
+            }
+            lat->ops->drift(&ctx, yc, sc->n_kicks, sc->drift[sc->n_kicks] * dt);
+        }
+        CHECK(memcmp(ya, yc, sizeof(double) * (size_t)len) == 0,
+              "model %d ring N=%d k=%d: the stage-fused step differs from the per-stage drift "
+              "and kick", model, n, k);
+        cases++;
+        fpl_lattice_free(&lat);
+    }
+    printf("three vectors on rings over 10 MiB (blocks of 4096), models 1-3: %d cases, = "
+           "per-stage bit for bit\n", cases);
+    free(v);
+    free(ya);
+    free(yc);
+    free(phi);
+    free(kap);
+    free(dphi);
+}
+
 int main(void)
 {
     test_tables();
@@ -943,6 +1006,7 @@ int main(void)
     test_many_vectors();
     test_long_chain_many_vectors();
     test_long_chain_few_vectors();
+    test_long_ring_many_vectors();
     test_rkn_tables();
     return check_report("splitting");
 }
