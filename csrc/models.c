@@ -1124,10 +1124,12 @@ FPL_INLINE int steps_fused(const fpl_splitting *scheme, const fpl_lattice_ctx *c
 #define FUSE_MANY_BLOCK 512
 /* Rings whose state exceeds FPL_SWEEP_FEW_MIN_BYTES (the fixed chains take the sweep there) go in
  * blocks of 4096 particles (a vector's block, 64 kB, stays in L2 between its drift and kick):
- * 512-particle blocks restart the hardware prefetch of every array on each 4 kB page and were
- * up to 1.4x slower than the stage-by-stage step out of cache (model 1, N = 262 144, k = 6);
- * 4096 was 1.1-1.7x faster than 512 there and 512 5-25 % faster than 4096 in cache
- * (N = 4096-32 768, k = 3-8; benchmarks/README.md). */
+ * with 512-particle blocks (one 4 kB page of each array a block: likely the hardware prefetch
+ * restarting on every page, not verified) rings were up to 1.4x slower than the stage-by-stage
+ * step out of cache (model 1, N = 262 144, k = 6);
+ * there 4096 was 1.3-1.5x faster than 512 at k = 6 and 8 (0.9-1.3x at k = 3), and in cache
+ * (N = 4096-32 768, k = 3-8) 512 was 3-35 % faster than 4096 (models 1-3, branch ring2's
+ * measurements; benchmarks/README.md). The block changes no element's operations. */
 #define FUSE_MANY_RING_BLOCK_BIG 4096
 
 /* dp_i += h (kappa_{i+1} ddx_{i+1} - kappa_i ddx_i) for i in [lo, hi) (kick_tangent_homogeneous
