@@ -377,27 +377,18 @@ FPL_INLINE void kick_tangent_ends_general(int n, const double *dx, double *dp,
     KICK_G(dp[n - 1], n - 1, tn, tm);
 }
 
-FPL_INLINE void kick_general_body(const fpl_lattice_ctx *c, double *y, double h, const int ham,
-                                  const int cubic)
+/* The kick of particles 1 .. n-2 (both bonds interior) for the orbit and the n_dev vectors, the
+ * same on fixed ends and rings (the callers add the end particles). */
+FPL_INLINE void kick_interior_general(const fpl_lattice_ctx *c, double *y, double h, const int ham,
+                                      const int cubic)
 {
     const fpl_lattice *lat = c->lat;
     const int n = lat->n, n_dev = c->n_dev;
-    if (n < 3) {
-        kick_generic((void *)c, y, h);
-        return;
-    }
     const double a = lat->alpha, b = lat->beta;
     const double *restrict cn = lat->cn, *restrict s = lat->s;
     const size_t stride = 2 * (size_t)n;   /* one vector [x p] */
     const double *x = y;
     double *p = y + n;
-    /* the wall bonds 0 and n, and bonds 1 and n-1 */
-    const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
-    const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1], Rn = -cn[n - 1] * x[n - 1];
-    const double R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
-    const double phi0 = PHI_G(L0, R0), phi1 = PHI_G(L_IN(x, 1), R1);
-    const double phim = PHI_G(L_IN(x, n - 1), Rm), phin = PHI_G(Ln, Rn);
-    const double k0 = KAP_G(R0), k1 = KAP_G(R1), km = KAP_G(Rm), kn = KAP_G(Rn);
     if (n_dev == 0) {
         kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
     } else if (n_dev == 1) {
@@ -419,6 +410,30 @@ FPL_INLINE void kick_general_body(const fpl_lattice_ctx *c, double *y, double h,
             }
         }
     }
+}
+
+FPL_INLINE void kick_general_body(const fpl_lattice_ctx *c, double *y, double h, const int ham,
+                                  const int cubic)
+{
+    const fpl_lattice *lat = c->lat;
+    const int n = lat->n, n_dev = c->n_dev;
+    if (n < 3) {
+        kick_generic((void *)c, y, h);
+        return;
+    }
+    const double a = lat->alpha, b = lat->beta;
+    const double *restrict cn = lat->cn, *restrict s = lat->s;
+    const size_t stride = 2 * (size_t)n;   /* one vector [x p] */
+    const double *x = y;
+    double *p = y + n;
+    /* the wall bonds 0 and n, and bonds 1 and n-1 */
+    const double L0 = ham ? cn[0] * x[0] : x[0], R0 = cn[0] * x[0];
+    const double Ln = ham ? -cn[n - 1] * x[n - 1] : -x[n - 1], Rn = -cn[n - 1] * x[n - 1];
+    const double R1 = R_IN(x, 1), Rm = R_IN(x, n - 1);
+    const double phi0 = PHI_G(L0, R0), phi1 = PHI_G(L_IN(x, 1), R1);
+    const double phim = PHI_G(L_IN(x, n - 1), Rm), phin = PHI_G(Ln, Rn);
+    const double k0 = KAP_G(R0), k1 = KAP_G(R1), km = KAP_G(Rm), kn = KAP_G(Rn);
+    kick_interior_general(c, y, h, ham, cubic);
     KICK_G(p[0], 0, phi1, phi0);
     KICK_G(p[n - 1], n - 1, phin, phim);
     for (int m = 1; m <= n_dev; m++) {
@@ -526,25 +541,7 @@ FPL_INLINE void kick_general_ring_body(const fpl_lattice_ctx *c, double *y, doub
     const double phiw = PHI_G(L_WRAP(x), Rw), phi1 = PHI_G(L_IN(x, 1), R1);
     const double phim = PHI_G(L_IN(x, n - 1), Rm);
     const double kw = KAP_G(Rw), k1 = KAP_G(R1), km = KAP_G(Rm);
-    if (n_dev == 0) {
-        kick_orbit_general(1, n - 1, x, p, cn, s, a, b, h, NULL, ham, cubic);
-    } else if (n_dev == 1) {
-        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, NULL, NULL, cn, s,
-                                   a, b, h, ham, cubic, 0);
-    } else if (n_dev == 2) {
-        kick_orbit_tangent_general(1, n - 1, x, p, y + stride, y + stride + n, y + 2 * stride,
-                                   y + 2 * stride + n, cn, s, a, b, h, ham, cubic, 1);
-    } else {
-        double *kap = c->work->kappa;
-        for (int i0 = 1; i0 < n - 1; i0 += KICK_BLOCK) {
-            const int i1 = i0 + KICK_BLOCK < n - 1 ? i0 + KICK_BLOCK : n - 1;
-            kick_orbit_general(i0, i1, x, p, cn, s, a, b, h, kap, ham, cubic);
-            for (int m = 1; m <= n_dev; m++) {
-                const double *dx = y + stride * (size_t)m;
-                kick_tangent_general(i0, i1, dx, (double *)dx + n, cn, s, kap, h, ham);
-            }
-        }
-    }
+    kick_interior_general(c, y, h, ham, cubic);
     KICK_G(p[0], 0, phi1, phiw);
     KICK_G(p[n - 1], n - 1, phiw, phim);
     for (int m = 1; m <= n_dev; m++) {
